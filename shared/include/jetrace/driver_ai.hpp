@@ -1,0 +1,30 @@
+// A driving AI: steers through the gates in order, brakes for corners.
+// Deterministic and stateless (a function of the scene and the car), so an
+// offline race with AI cars reproduces bit for bit.
+//
+// It relies on one property of a valid track: the straight line between the
+// centres of consecutive gates is drivable (no barrier across it). The
+// built-in tracks have it, and the OBJ import convention asks for it.
+#pragma once
+
+#include "jetrace/world.hpp"
+
+namespace jetrace {
+
+struct DriverSkill {
+    /// Lateral acceleration the AI plans corners for (unit: m/s^2); below
+    /// the car's grip so it does not drift.
+    double corner_mps2 = 30.0;
+    /// Distance at which it starts aiming at the gate after next (unit: m).
+    double lookahead_m = 35.0;
+    /// Speed to pass a gate that points upwards, such as the top of the
+    /// wall (unit: m/s).
+    double climb_top_mps = 35.0;
+    /// Steering per radian of heading error (unit: lock/rad).
+    double steer_gain = 2.5;
+};
+
+/// The input the AI gives car `slot` for the next tick.
+Input drive(const Scene& scene, const WorldState& state, int slot, const DriverSkill& skill = {});
+
+}  // namespace jetrace

@@ -1,0 +1,56 @@
+// Triangles, boxes and the exact closest point on a triangle.
+#pragma once
+
+#include "jetrace/math.hpp"
+
+namespace jetrace {
+
+struct Aabb {
+    Vec3 min{0, 0, 0};
+    Vec3 max{0, 0, 0};
+
+    static Aabb around(const Vec3& center, double half_extent) {
+        const Vec3 h(half_extent, half_extent, half_extent);
+        return {center - h, center + h};
+    }
+    void expand(const Vec3& p) {
+        min = min.cwiseMin(p);
+        max = max.cwiseMax(p);
+    }
+    /// Inclusive overlap: boxes that only touch overlap (a flat triangle has a
+    /// zero-thickness box and must still be found).
+    bool overlaps(const Aabb& o) const {
+        return min.x() <= o.max.x() && o.min.x() <= max.x() && min.y() <= o.max.y() &&
+               o.min.y() <= max.y() && min.z() <= o.max.z() && o.min.z() <= max.z();
+    }
+};
+
+/// A track triangle with the data the resolver needs precomputed.
+struct Triangle {
+    Vec3 a{0, 0, 0}, b{0, 0, 0}, c{0, 0, 0};
+    /// Unit normal by the right-hand rule over (a, b, c); zero if degenerate.
+    Vec3 normal{0, 0, 0};
+    /// True when the triangle has (almost) no area: it is then treated as its
+    /// three edges.
+    bool degenerate = false;
+
+    static Triangle make(const Vec3& a, const Vec3& b, const Vec3& c);
+    Aabb bounds() const;
+};
+
+/// Which feature of the triangle the closest point lies on.
+enum class TriRegion : std::uint8_t { vertex_a, vertex_b, vertex_c, edge_ab, edge_bc, edge_ca, face };
+
+struct ClosestPoint {
+    Vec3 point{0, 0, 0};
+    TriRegion region = TriRegion::face;
+};
+
+/// Exact closest point of `t` to `p` by Voronoi regions (Ericson, Real-Time
+/// Collision Detection 5.1.5), with degenerate triangles handled as segments.
+ClosestPoint closest_point_on_triangle(const Vec3& p, const Triangle& t);
+
+/// Closest point to p on segment [a, b].
+Vec3 closest_point_on_segment(const Vec3& p, const Vec3& a, const Vec3& b);
+
+}  // namespace jetrace

@@ -1,0 +1,92 @@
+// Deterministic math for the physics core.
+//
+// Vectors and quaternions are Eigen types. The core is compiled with
+// EIGEN_DONT_VECTORIZE and -ffp-contract=off (see shared/CMakeLists.txt), so
+// every reduction (dot, norm) is the same unrolled scalar sequence under gcc
+// and clang at any optimisation level. Only +, -, *, / and sqrt are used on
+// the step path: they are correctly rounded by IEEE 754. Trigonometry comes
+// from the polynomials below, never from libm.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstdint>
+
+namespace jetrace {
+
+using Vec3 = Eigen::Vector3d;
+using Quat = Eigen::Quaterniond;
+
+/// World axes: Y is up. A car's local frame: +Z forward, +Y up.
+inline const Vec3 kWorldUp{0.0, 1.0, 0.0};
+inline const Vec3 kLocalForward{0.0, 0.0, 1.0};
+inline const Vec3 kLocalUp{0.0, 1.0, 0.0};
+
+inline constexpr double kPi = 3.14159265358979323846;
+
+/// Deterministic sine for |x| <= pi (range-reduced otherwise). Taylor series
+/// evaluated in a fixed order; absolute error below 1e-15 on [-pi/4, pi/4]
+/// and below 1e-9 on [-pi, pi]. Not for hot loops: the step only calls it
+/// with small angles.
+double det_sin(double x);
+/// Deterministic cosine, same contract as det_sin.
+double det_cos(double x);
+
+/// Quaternion for a rotation of `angle_rad` about unit `axis`.
+Quat axis_angle(const Vec3& axis, double angle_rad);
+
+/// The shortest rotation taking unit vector `from` onto unit vector `to`.
+/// For opposite vectors it rotates half a turn about an axis orthogonal to
+/// `from` chosen deterministically.
+Quat shortest_arc(const Vec3& from, const Vec3& to);
+
+/// Normalised linear interpolation from identity towards `q` by t in [0, 1]
+/// (the deterministic stand-in for slerp; for the small per-step angles used
+/// here the two differ by far less than the quantisation step).
+Quat nlerp_from_identity(const Quat& q, double t);
+
+/// `v / |v|`, or `fallback` when |v| is below `min_len`.
+Vec3 normalized_or(const Vec3& v, const Vec3& fallback, double min_len = 1e-12);
+
+/// Rounds x to the nearest multiple of 2^-bits (ties to even). Exact and
+/// deterministic: scaling by a power of two never rounds.
+inline double quantize(double x, int bits) {
+    const double scale = static_cast<double>(std::uint64_t{1} << bits);  // exact power of two
+    const double y = x * scale;
+    // Round to nearest, ties to even, without a libm call: adding and
+    // subtracting 1.5 * 2^52 leaves no fraction bits (exact for |y| < 2^51;
+    // without fast-math the compiler may not fold the pair away).
+    constexpr double kMagic = 6755399441055744.0;
+    if (y > -2251799813685248.0 && y < 2251799813685248.0) return ((y + kMagic) - kMagic) / scale;
+    return std::nearbyint(y) / scale;
+}
+
+/// Image of local +Y (up) under unit quaternion q.
+inline Vec3 axis_y(const Quat& q) {
+    const double w = q.w(), x = q.x(), y = q.y(), z = q.z();
+    return {2.0 * (x * y - w * z), 1.0 - 2.0 * (x * x + z * z), 2.0 * (y * z + w * x)};
+}
+/// Image of local +Z (forward) under unit quaternion q.
+inline Vec3 axis_z(const Quat& q) {
+    const double w = q.w(), x = q.x(), y = q.y(), z = q.z();
+    return {2.0 * (x * z + w * y), 2.0 * (y * z - w * x), 1.0 - 2.0 * (x * x + y * y)};
+}
+
+/// 64-bit FNV-1a over raw bytes; used for state hashes and track identity.
+class Fnv1a {
+public:
+    void bytes(const void* data, std::size_t n);
+    void u8(std::uint8_t v) { bytes(&v, 1); }
+    void u32(std::uint32_t v);
+    void i32(std::int32_t v) { u32(static_cast<std::uint32_t>(v)); }
+    void u64(std::uint64_t v);
+    void f64(double v);
+    void vec3(const Vec3& v) { f64(v.x()); f64(v.y()); f64(v.z()); }
+    std::uint64_t value() const { return h_; }
+
+private:
+    std::uint64_t h_ = 0xcbf29ce484222325ull;
+};
+
+}  // namespace jetrace

@@ -1,0 +1,25 @@
+// An offline race of AI cars: the loop behind jetrace-sim and the golden
+// determinism test.
+#pragma once
+
+#include "jetrace/driver_ai.hpp"
+#include "jetrace/world.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace jetrace {
+
+/// Per-car driving skills drawn from `seed` (fixed bit-level mapping from
+/// std::mt19937_64, whose output the C++ standard pins down).
+std::vector<DriverSkill> skills_for(int cars, std::uint64_t seed);
+
+/// A world with `cars` cars on the grid, racing `laps` laps from tick 0.
+WorldState start_race(const Scene& scene, int cars, int laps);
+
+/// Steps `ticks` ticks with every car driven by the AI. Stops early once
+/// every car has finished if `stop_when_finished`.
+void run_ai(const Scene& scene, WorldState& state, const std::vector<DriverSkill>& skills, std::uint32_t ticks,
+            bool stop_when_finished, StepScratch& scratch);
+
+}  // namespace jetrace

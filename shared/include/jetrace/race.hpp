@@ -1,0 +1,37 @@
+// Race rules: gates in order, laps, finishing, respawn; and standings.
+#pragma once
+
+#include "jetrace/hovercar.hpp"
+#include "jetrace/track.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace jetrace {
+
+/// Applies the rules to one car that moved from `from` to its position
+/// during tick `tick`: gate crossing, lap count, finish, respawn below the
+/// kill height or after stalling (racing only).
+void apply_race_rules(const Track& track, const PhysicsSettings& ps, std::int32_t laps, std::uint32_t tick,
+                      bool racing, const Vec3& from, CarState& car);
+
+/// Equal-mass sphere-sphere collisions between all active cars, in slot-pair
+/// order (i < j): separate the pair and make the collision inelastic along
+/// the line of centres (momentum conserved).
+void collide_cars(double radius_m, std::vector<CarState>& cars);
+
+struct Standing {
+    int slot = 0;
+    bool finished = false;
+    std::int32_t lap = 0;
+    std::int32_t next_checkpoint = 0;
+    /// Time of finish (unit: s), valid when finished.
+    double finish_time_s = 0;
+};
+
+/// Race order: finished cars by finish time (tick, then fraction, then slot),
+/// then the others by progress (lap, gates passed, distance to next gate).
+std::vector<Standing> standings(const Track& track, const std::vector<CarState>& cars, std::uint32_t start_tick,
+                                int tick_rate_hz);
+
+}  // namespace jetrace

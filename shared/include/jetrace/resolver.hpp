@@ -1,0 +1,56 @@
+// Sphere against track: candidate gathering and the seed's push-out.
+#pragma once
+
+#include "jetrace/contacts.hpp"
+#include "jetrace/settings.hpp"
+#include "jetrace/track.hpp"
+#include "jetrace/uniform_grid.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace jetrace {
+
+/// How the resolver finds the triangles near a car.
+enum class Broadphase : std::uint8_t { grid, brute_force };
+
+/// The triangles near a car, gathered once per step and reused by every
+/// push-out pass while the car stays within `reach` of where they were
+/// gathered. The vector is scratch owned by the caller (no allocation once
+/// warm).
+struct Candidates {
+    std::vector<std::uint32_t> triangles;
+    Vec3 center{0, 0, 0};
+    double reach_m = 0;
+    bool all = false;  // brute force: every triangle
+
+    /// True if a sphere of `radius_m` at `p` is inside the gathered region.
+    bool covers(const Vec3& p, double radius_m) const;
+};
+
+/// Gathers the triangles that may touch a sphere of `radius_m` at `center`
+/// (grid query or all triangles).
+void gather_candidates(const Track& track, const UniformGrid& grid, Broadphase bp, const Vec3& center,
+                       double radius_m, Candidates& out);
+
+/// Contacts within radius + skin of `center` among the candidates.
+void find_contacts(const Track& track, const Candidates& cand, const PhysicsSettings& s, const Vec3& center,
+                   Contacts& out);
+
+struct ResolveStats {
+    /// Push-outs performed this step.
+    int pushes = 0;
+    /// True if the pass cap stopped the resolver with the car still inside a triangle.
+    bool capped = false;
+};
+
+/// The seed's discrete push-out, made safe: up to resolver_passes times, find
+/// the first candidate triangle the sphere touches or penetrates (distance <=
+/// radius), move the centre to radius + epsilon from its closest point and
+/// remove the velocity into it. With epsilon 0 a pushed-out triangle still
+/// counts as touching and eats every pass (the seed's fall through the
+/// ground). Re-gathers candidates if pushes carry the car out of their reach.
+ResolveStats resolve(const Track& track, const UniformGrid& grid, Broadphase bp, const PhysicsSettings& s,
+                     const Vec3& previous_position, Vec3& position, Vec3& velocity, Candidates& cand);
+
+}  // namespace jetrace

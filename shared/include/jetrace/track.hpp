@@ -1,0 +1,79 @@
+// A static race track: a triangle mesh, ordered checkpoints, spawn slots.
+#pragma once
+
+#include "jetrace/geometry.hpp"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace jetrace {
+
+/// A pose where a car can be placed: on the track, sphere just touching it.
+struct Pose {
+    Vec3 position{0, 0, 0};
+    /// Unit direction the car faces.
+    Vec3 forward{0, 0, 1};
+    /// Unit up; orthogonal to forward.
+    Vec3 up{0, 1, 0};
+};
+
+/// A rectangular gate. A car passes it when its centre crosses the gate's
+/// plane in the direction of `normal` inside the rectangle.
+struct Checkpoint {
+    Vec3 center{0, 0, 0};
+    /// Unit direction of travel through the gate.
+    Vec3 normal{0, 0, 1};
+    /// Unit vectors spanning the gate rectangle (orthogonal to normal).
+    Vec3 across{1, 0, 0};
+    Vec3 up{0, 1, 0};
+    /// Half extents of the gate along `across` and `up` (unit: m).
+    double half_width_m = 10;
+    double half_height_m = 10;
+    /// Where a car that falls below the kill height after passing this
+    /// checkpoint comes back.
+    Pose respawn;
+};
+
+/// Result of a segment crossing a gate.
+struct GateCrossing {
+    bool crossed = false;
+    /// Where along the segment [0, 1] the crossing happened.
+    double fraction = 0;
+};
+
+GateCrossing cross_gate(const Checkpoint& gate, const Vec3& from, const Vec3& to);
+
+/// Distance from `p` to the gate's rectangle (unit: m).
+double distance_to_gate(const Checkpoint& gate, const Vec3& p);
+
+struct Track {
+    std::string name;
+    std::vector<Triangle> triangles;
+    /// Ordered gates; checkpoints[0] is the start/finish line.
+    std::vector<Checkpoint> checkpoints;
+    /// Starting grid, pole position first.
+    std::vector<Pose> spawns;
+    /// A car whose centre falls below this height respawns (unit: m).
+    double kill_height_m = -100;
+    /// Bounds of all triangles.
+    Aabb bounds;
+
+    /// Identity of the geometry and rules: hash of every coordinate, gate and
+    /// spawn. Replays and the handshake carry it.
+    std::uint64_t identity() const;
+};
+
+/// Builds a track from an indexed mesh (precomputes triangle data and bounds).
+Track make_track(std::string name, const std::vector<Vec3>& vertices, const std::vector<std::uint32_t>& indices,
+                 std::vector<Checkpoint> checkpoints, std::vector<Pose> spawns, double kill_height_m);
+
+/// Largest number of triangles a track may have.
+inline constexpr std::size_t kMaxTrackTriangles = 4'000'000;
+/// Largest |coordinate| accepted in a track (unit: m).
+inline constexpr double kMaxTrackCoordinate_m = 1.0e6;
+
+/// Checks a track read from outside: empty string if valid, else the problem.
+std::string validate(const Track& track);
+
+}  // namespace jetrace

@@ -1,0 +1,92 @@
+// The world: an immutable Scene (track, grid, settings) and a plain-value
+// WorldState stepped by step(scene, state, inputs). Saving is copying the
+// state; restoring is assigning it. That is also what reconciliation does.
+#pragma once
+
+#include "jetrace/hovercar.hpp"
+#include "jetrace/resolver.hpp"
+#include "jetrace/settings.hpp"
+#include "jetrace/track.hpp"
+#include "jetrace/uniform_grid.hpp"
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace jetrace {
+
+/// Everything that does not change during a race.
+struct Scene {
+    Track track;
+    UniformGrid grid;
+    PhysicsSettings physics;
+    Broadphase broadphase = Broadphase::grid;
+
+    /// Builds the grid. `physics` must be valid (see validate()).
+    static Scene make(Track track, const PhysicsSettings& physics, double cell_size_m = 0.0);
+};
+
+/// Everything that changes. A value type: copy to save, assign to restore.
+struct WorldState {
+    /// Ticks stepped since the world was created.
+    std::uint32_t tick = 0;
+    /// Inputs are ignored (cars held with the brake) before this tick.
+    std::uint32_t start_tick = 0;
+    /// Laps to finish the race.
+    std::int32_t laps = 1;
+    /// Fixed slots; inactive slots are skipped.
+    std::vector<CarState> cars;
+};
+
+/// Per-step scratch owned by the caller; results never depend on its contents.
+struct StepScratch {
+    std::vector<Candidates> candidates;
+    /// Contacts of each car at the end of the last step, and the position
+    /// they were found at: reused by the next step only if the car is still
+    /// exactly there (bit for bit), else found again.
+    std::vector<Contacts> contacts;
+    std::vector<Vec3> contacts_at;
+    std::vector<std::uint8_t> contacts_valid;
+    std::vector<Vec3> previous_position;
+    /// Push-outs and capped resolves in the last step (diagnostics).
+    int pushes = 0;
+    int capped = 0;
+};
+
+/// A world with `slots` empty car slots.
+WorldState make_world(int slots, int laps, std::uint32_t start_tick = 0);
+
+/// Puts a car into slot `slot` at spawn `spawn_index` (mod spawn count).
+void spawn_car(const Scene& scene, WorldState& state, int slot, int spawn_index);
+/// Removes a car (its slot becomes inactive).
+void remove_car(WorldState& state, int slot);
+
+/// Advances the world by one fixed step. `inputs` has one entry per slot.
+void step(const Scene& scene, WorldState& state, std::span<const Input> inputs, StepScratch& scratch);
+
+/// 64-bit hash over the raw bits of the whole state, in slot order.
+std::uint64_t state_hash(const WorldState& state);
+/// 16 lowercase hex digits.
+std::string hash_hex(std::uint64_t h);
+
+/// A convenience owner of a scene reference, a state and scratch.
+class World {
+public:
+    World(const Scene& scene, WorldState state) : scene_(&scene), state_(std::move(state)) {}
+    void step(std::span<const Input> inputs) { jetrace::step(*scene_, state_, inputs, scratch_); }
+    const WorldState& state() const { return state_; }
+    WorldState& state() { return state_; }
+    WorldState save() const { return state_; }
+    void restore(const WorldState& s) { state_ = s; }
+    std::uint64_t hash() const { return state_hash(state_); }
+    const Scene& scene() const { return *scene_; }
+    const StepScratch& scratch() const { return scratch_; }
+
+private:
+    const Scene* scene_;
+    WorldState state_;
+    StepScratch scratch_;
+};
+
+}  // namespace jetrace

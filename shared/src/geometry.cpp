@@ -1,0 +1,93 @@
+#include "jetrace/geometry.hpp"
+
+namespace jetrace {
+
+Triangle Triangle::make(const Vec3& a, const Vec3& b, const Vec3& c) {
+    Triangle t;
+    t.a = a;
+    t.b = b;
+    t.c = c;
+    const Vec3 n = (b - a).cross(c - a);
+    const double len2 = n.squaredNorm();
+    // Relative test: area small against the squared longest edge.
+    const double scale = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+    if (!(len2 > 1e-20 * scale * scale) || scale == 0.0) {
+        t.degenerate = true;
+        t.normal = Vec3::Zero();
+    } else {
+        t.normal = n / std::sqrt(len2);
+    }
+    return t;
+}
+
+Aabb Triangle::bounds() const {
+    Aabb box{a, a};
+    box.expand(b);
+    box.expand(c);
+    return box;
+}
+
+Vec3 closest_point_on_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
+    const Vec3 ab = b - a;
+    const double len2 = ab.squaredNorm();
+    if (!(len2 > 0.0)) return a;
+    double t = (p - a).dot(ab) / len2;
+    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+    return a + ab * t;
+}
+
+ClosestPoint closest_point_on_triangle(const Vec3& p, const Triangle& t) {
+    if (t.degenerate) {
+        const Vec3 q0 = closest_point_on_segment(p, t.a, t.b);
+        const Vec3 q1 = closest_point_on_segment(p, t.b, t.c);
+        const Vec3 q2 = closest_point_on_segment(p, t.c, t.a);
+        const double d0 = (p - q0).squaredNorm(), d1 = (p - q1).squaredNorm(), d2 = (p - q2).squaredNorm();
+        if (d0 <= d1 && d0 <= d2) return {q0, TriRegion::edge_ab};
+        if (d1 <= d2) return {q1, TriRegion::edge_bc};
+        return {q2, TriRegion::edge_ca};
+    }
+    const Vec3& a = t.a;
+    const Vec3& b = t.b;
+    const Vec3& c = t.c;
+    const Vec3 ab = b - a;
+    const Vec3 ac = c - a;
+    const Vec3 ap = p - a;
+    const double d1 = ab.dot(ap);
+    const double d2 = ac.dot(ap);
+    if (d1 <= 0.0 && d2 <= 0.0) return {a, TriRegion::vertex_a};
+
+    const Vec3 bp = p - b;
+    const double d3 = ab.dot(bp);
+    const double d4 = ac.dot(bp);
+    if (d3 >= 0.0 && d4 <= d3) return {b, TriRegion::vertex_b};
+
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
+        const double v = d1 / (d1 - d3);
+        return {a + ab * v, TriRegion::edge_ab};
+    }
+
+    const Vec3 cp = p - c;
+    const double d5 = ab.dot(cp);
+    const double d6 = ac.dot(cp);
+    if (d6 >= 0.0 && d5 <= d6) return {c, TriRegion::vertex_c};
+
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
+        const double w = d2 / (d2 - d6);
+        return {a + ac * w, TriRegion::edge_ca};
+    }
+
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {
+        const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return {b + (c - b) * w, TriRegion::edge_bc};
+    }
+
+    const double denom = 1.0 / (va + vb + vc);
+    const double v = vb * denom;
+    const double w = vc * denom;
+    return {a + ab * v + ac * w, TriRegion::face};
+}
+
+}  // namespace jetrace

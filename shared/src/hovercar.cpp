@@ -1,0 +1,160 @@
+#include "jetrace/hovercar.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace jetrace {
+
+Input Input::clamped(int throttle, int steer, int brake) {
+    Input in;
+    in.throttle = static_cast<std::int8_t>(std::clamp(throttle, 0, kMaxThrottle));
+    in.steer = static_cast<std::int8_t>(std::clamp(steer, -kMaxSteer, kMaxSteer));
+    in.brake = static_cast<std::uint8_t>(brake != 0 ? 1 : 0);
+    return in;
+}
+
+std::uint16_t Input::pack() const {
+    return static_cast<std::uint16_t>((throttle & 0xF) | (((steer + kMaxSteer) & 0x1F) << 4) | ((brake & 1) << 9));
+}
+
+Input Input::unpack(std::uint16_t bits) {
+    return clamped(bits & 0xF, static_cast<int>((bits >> 4) & 0x1F) - kMaxSteer, (bits >> 9) & 1);
+}
+
+Quat orientation_from(const Vec3& forward, const Vec3& up) {
+    // Columns are the images of local X (right-handed: up x forward), Y, Z.
+    Eigen::Matrix3d m;
+    m.col(0) = up.cross(forward);
+    m.col(1) = up;
+    m.col(2) = forward;
+    Quat q(m);
+    q.normalize();
+    return q;
+}
+
+void place_car(CarState& car, const Pose& pose) {
+    car.position = pose.position;
+    car.velocity = Vec3::Zero();
+    car.orientation = orientation_from(pose.forward, pose.up);
+    quantize_car(car);
+}
+
+namespace {
+
+// The support frame: the contact normal closest to the car's up, and the
+// car's forward and right projected into that surface.
+struct SupportFrame {
+    bool grounded = false;
+    Vec3 normal{0, 1, 0};
+    Vec3 forward{0, 0, 1};
+    Vec3 right{-1, 0, 0};
+};
+
+SupportFrame support_frame(const Contacts& contacts, const Vec3& fwd, const Vec3& up, double min_cos) {
+    SupportFrame f;
+    const int i = contacts.support(up, min_cos);
+    if (i < 0) return f;
+    f.normal = contacts.normal[i];
+    const Vec3 tf = fwd - f.normal * fwd.dot(f.normal);
+    // Facing straight into or out of the surface: fall back to the direction
+    // the car's up leans, so thrust still has a direction along the surface.
+    const Vec3 tu = up - f.normal * up.dot(f.normal);
+    f.forward = normalized_or(tf, normalized_or(tu, Vec3::Zero(), 1e-6), 1e-6);
+    if (f.forward.squaredNorm() == 0.0) return f;  // no usable frame: treat as airborne
+    f.right = f.forward.cross(f.normal);
+    f.grounded = true;
+    return f;
+}
+
+// Turns the unit orientation q about its own up.
+void steer(const PhysicsSettings& s, const Input& input, Quat& q) {
+    if (input.steer == 0) return;
+    // Positive steer turns right: a negative rotation about up.
+    const double angle = -static_cast<double>(input.steer) / Input::kMaxSteer * s.steer_rate_radps * s.dt_s();
+    q = axis_angle(axis_y(q), angle) * q;
+}
+
+// Sideways friction (seed: static threshold above the kinetic decrement).
+void sideways_friction(const PhysicsSettings& s, const SupportFrame& f, CarState& car) {
+    const double lateral = car.velocity.dot(f.right);
+    const double grip = s.grip_mps2 * s.dt_s();
+    if (std::abs(lateral) <= grip) {
+        car.velocity -= f.right * lateral;  // grip
+    } else {
+        const double slide = s.slide_mps2 * s.dt_s();
+        car.velocity -= f.right * (lateral > 0 ? slide : -slide);  // drift
+    }
+}
+
+void brake(const PhysicsSettings& s, const SupportFrame& f, CarState& car) {
+    // Slow the along-surface velocity by brake*dt, never reversing it.
+    const Vec3 along = car.velocity - f.normal * car.velocity.dot(f.normal);
+    const double speed = along.norm();
+    if (speed <= 0.0) return;
+    const double dv = s.brake_mps2 * s.dt_s();
+    car.velocity -= speed <= dv ? along : along * (dv / speed);
+}
+
+}  // namespace
+
+void apply_controls_and_forces(const PhysicsSettings& s, const Contacts& contacts, const Input& input, CarState& car) {
+    const double dt = s.dt_s();
+    Quat q = car.unit_orientation();
+    steer(s, input, q);
+    car.orientation = q;
+    const Vec3 up = axis_y(q);
+    const SupportFrame f = support_frame(contacts, axis_z(q), up, s.ride_min_cos);
+
+    Vec3 accel(0.0, -s.gravity_mps2, 0.0);
+    if (f.grounded) {
+        accel += f.forward * (s.thrust_mps2 * input.throttle / Input::kMaxThrottle);
+        // Normal force: the surface cancels the part of the acceleration that
+        // pushes into it (so a car at rest stays exactly at rest).
+        const double into = accel.dot(f.normal);
+        if (into < 0.0) accel -= f.normal * into;
+    }
+    // Quadratic drag, always.
+    const double speed = car.velocity.norm();
+    car.velocity += accel * dt;
+    car.velocity -= car.velocity * std::min(1.0, s.drag_per_m * speed * dt);
+
+    if (f.grounded) {
+        if (input.brake) brake(s, f, car);
+        sideways_friction(s, f, car);
+    }
+}
+
+void integrate(const PhysicsSettings& s, const Vec3& v0, CarState& car) {
+    const double dt = s.dt_s();
+    switch (s.integrator) {
+        case Integrator::explicit_euler: car.position += v0 * dt; break;
+        case Integrator::semi_implicit_euler: car.position += car.velocity * dt; break;
+        case Integrator::velocity_verlet: car.position += (v0 + car.velocity) * (0.5 * dt); break;
+    }
+}
+
+void align_to_contacts(const PhysicsSettings& s, const Contacts& contacts, CarState& car) {
+    const Quat q = car.unit_orientation();
+    const Vec3 up = axis_y(q);
+    const int i = contacts.support(up, s.ride_min_cos);
+    if (i < 0) return;  // in the air: keep the orientation (the seed's tilted jumps)
+    const double t = std::min(1.0, s.align_rate_per_s * s.dt_s());
+    const Quat arc = shortest_arc(up, contacts.normal[i]);
+    car.orientation = nlerp_from_identity(arc, t) * q;
+}
+
+void quantize_motion(CarState& car) {
+    for (int i = 0; i < 3; ++i) {
+        car.position[i] = quantize(car.position[i], kPosBits);
+        car.velocity[i] = quantize(car.velocity[i], kVelBits);
+    }
+}
+
+void quantize_orientation(CarState& car) {
+    Quat q = car.unit_orientation();
+    if (q.w() < 0.0) q.coeffs() = -q.coeffs();  // one representative: w >= 0
+    car.orientation = Quat(quantize(q.w(), kQuatBits), quantize(q.x(), kQuatBits), quantize(q.y(), kQuatBits),
+                           quantize(q.z(), kQuatBits));
+}
+
+}  // namespace jetrace

@@ -1,0 +1,40 @@
+#include "jetrace/offline_race.hpp"
+
+#include <random>
+
+namespace jetrace {
+
+std::vector<DriverSkill> skills_for(int cars, std::uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    const auto unit = [&] { return static_cast<double>(rng() >> 11) * 0x1.0p-53; };
+    std::vector<DriverSkill> out(static_cast<std::size_t>(cars));
+    for (DriverSkill& s : out) {
+        s.corner_mps2 = 24.0 + 10.0 * unit();
+        s.lookahead_m = 30.0 + 15.0 * unit();
+        s.steer_gain = 2.0 + 1.5 * unit();
+    }
+    return out;
+}
+
+WorldState start_race(const Scene& scene, int cars, int laps) {
+    WorldState st = make_world(cars, laps);
+    for (int i = 0; i < cars; ++i) spawn_car(scene, st, i, i);
+    return st;
+}
+
+void run_ai(const Scene& scene, WorldState& state, const std::vector<DriverSkill>& skills, std::uint32_t ticks,
+            bool stop_when_finished, StepScratch& scratch) {
+    std::vector<Input> inputs(state.cars.size());
+    for (std::uint32_t t = 0; t < ticks; ++t) {
+        bool all_done = true;
+        for (std::size_t i = 0; i < state.cars.size(); ++i) {
+            const DriverSkill skill = i < skills.size() ? skills[i] : DriverSkill{};
+            inputs[i] = drive(scene, state, static_cast<int>(i), skill);
+            if (state.cars[i].active && !state.cars[i].finished) all_done = false;
+        }
+        if (stop_when_finished && all_done) return;
+        step(scene, state, inputs, scratch);
+    }
+}
+
+}  // namespace jetrace

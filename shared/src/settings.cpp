@@ -1,0 +1,51 @@
+#include "jetrace/settings.hpp"
+
+#include <cmath>
+#include <sstream>
+
+namespace jetrace {
+
+const char* to_string(Integrator i) {
+    switch (i) {
+        case Integrator::explicit_euler: return "explicit";
+        case Integrator::semi_implicit_euler: return "semi-implicit";
+        case Integrator::velocity_verlet: return "verlet";
+    }
+    return "unknown";
+}
+
+bool parse_integrator(const std::string& s, Integrator& out) {
+    if (s == "explicit") { out = Integrator::explicit_euler; return true; }
+    if (s == "semi-implicit") { out = Integrator::semi_implicit_euler; return true; }
+    if (s == "verlet") { out = Integrator::velocity_verlet; return true; }
+    return false;
+}
+
+namespace {
+bool finite_positive(double v) { return std::isfinite(v) && v > 0.0; }
+bool finite_non_negative(double v) { return std::isfinite(v) && v >= 0.0; }
+}  // namespace
+
+std::string validate(const PhysicsSettings& s) {
+    std::ostringstream err;
+    if (s.tick_rate_hz < 10 || s.tick_rate_hz > 10000) err << "tick_rate_hz must be in [10, 10000]; ";
+    if (!finite_non_negative(s.gravity_mps2)) err << "gravity_mps2 must be >= 0; ";
+    if (!finite_positive(s.car_radius_m) || s.car_radius_m > 100) err << "car_radius_m must be in (0, 100]; ";
+    if (!finite_non_negative(s.thrust_mps2)) err << "thrust_mps2 must be >= 0; ";
+    if (!finite_non_negative(s.drag_per_m)) err << "drag_per_m must be >= 0; ";
+    if (!finite_non_negative(s.brake_mps2)) err << "brake_mps2 must be >= 0; ";
+    if (!finite_non_negative(s.steer_rate_radps) || s.steer_rate_radps > 20) err << "steer_rate_radps must be in [0, 20]; ";
+    if (!finite_non_negative(s.grip_mps2)) err << "grip_mps2 must be >= 0; ";
+    if (!finite_non_negative(s.slide_mps2) || s.slide_mps2 > s.grip_mps2)
+        err << "slide_mps2 must be in [0, grip_mps2] (static friction above kinetic); ";
+    if (!finite_non_negative(s.align_rate_per_s)) err << "align_rate_per_s must be >= 0; ";
+    if (!(s.ride_min_cos >= -1.0 && s.ride_min_cos <= 1.0)) err << "ride_min_cos must be in [-1, 1]; ";
+    if (!(s.no_progress_s > 0.0 && s.no_progress_s < 3600.0)) err << "no_progress_s must be in (0, 3600); ";
+    if (s.resolver_passes < 1 || s.resolver_passes > 100) err << "resolver_passes must be in [1, 100]; ";
+    if (!finite_non_negative(s.resolver_epsilon_m) || s.resolver_epsilon_m > 0.5) err << "resolver_epsilon_m must be in [0, 0.5]; ";
+    if (!finite_positive(s.contact_skin_m) || s.contact_skin_m <= s.resolver_epsilon_m || s.contact_skin_m > 1.0)
+        err << "contact_skin_m must be in (resolver_epsilon_m, 1]; ";
+    return err.str();
+}
+
+}  // namespace jetrace

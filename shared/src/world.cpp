@@ -1,0 +1,167 @@
+#include "jetrace/world.hpp"
+
+#include "jetrace/race.hpp"
+
+#include <cassert>
+#include <cstdio>
+
+namespace jetrace {
+
+Scene Scene::make(Track track, const PhysicsSettings& physics, double cell_size_m) {
+    assert(validate(physics).empty());
+    Scene s;
+    s.grid = UniformGrid(track.triangles, track.bounds, physics.car_radius_m, cell_size_m);
+    s.track = std::move(track);
+    s.physics = physics;
+    return s;
+}
+
+WorldState make_world(int slots, int laps, std::uint32_t start_tick) {
+    WorldState w;
+    w.cars.resize(static_cast<std::size_t>(slots));
+    w.laps = laps;
+    w.start_tick = start_tick;
+    return w;
+}
+
+void spawn_car(const Scene& scene, WorldState& state, int slot, int spawn_index) {
+    assert(slot >= 0 && static_cast<std::size_t>(slot) < state.cars.size());
+    assert(!scene.track.spawns.empty());
+    CarState car;
+    car.active = true;
+    const auto n = static_cast<int>(scene.track.spawns.size());
+    place_car(car, scene.track.spawns[static_cast<std::size_t>(((spawn_index % n) + n) % n)]);
+    state.cars[static_cast<std::size_t>(slot)] = car;
+}
+
+void remove_car(WorldState& state, int slot) { state.cars[static_cast<std::size_t>(slot)] = CarState{}; }
+
+namespace {
+
+// Margin added to the gathered region beyond the expected motion (unit: m).
+constexpr double kGatherMargin_m = 0.5;
+
+void ensure_scratch(std::size_t n, StepScratch& s) {
+    if (s.candidates.size() != n) {
+        s.candidates.resize(n);
+        s.contacts.resize(n);
+        s.contacts_at.resize(n);
+        s.contacts_valid.assign(n, 0);
+        s.previous_position.resize(n);
+    }
+}
+
+// Phase 1: sense contacts, apply controls and forces, integrate.
+void drive_phase(const Scene& sc, WorldState& st, std::span<const Input> inputs, StepScratch& scr) {
+    const PhysicsSettings& ps = sc.physics;
+    const bool racing = st.tick >= st.start_tick;
+    for (std::size_t i = 0; i < st.cars.size(); ++i) {
+        CarState& car = st.cars[i];
+        if (!car.active) continue;
+        scr.previous_position[i] = car.position;
+        Input in{};
+        if (!racing || car.finished) {
+            in.brake = 1;
+        } else if (i < inputs.size()) {
+            in = inputs[i];
+        }
+        const double reach =
+            ps.car_radius_m + ps.contact_skin_m + car.velocity.norm() * ps.dt_s() + kGatherMargin_m;
+        Candidates& cand = scr.candidates[i];
+        if (!cand.covers(car.position, reach - kGatherMargin_m)) {
+            gather_candidates(sc.track, sc.grid, sc.broadphase, car.position, reach, cand);
+        }
+        if (!scr.contacts_valid[i] || scr.contacts_at[i] != car.position) {
+            find_contacts(sc.track, cand, ps, car.position, scr.contacts[i]);
+            scr.contacts_at[i] = car.position;
+            scr.contacts_valid[i] = 1;
+        }
+        const Vec3 v0 = car.velocity;
+        apply_controls_and_forces(ps, scr.contacts[i], in, car);
+        integrate(ps, v0, car);
+    }
+}
+
+// Phase 3: push each car out of the track.
+void resolve_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
+    scr.pushes = 0;
+    scr.capped = 0;
+    for (std::size_t i = 0; i < st.cars.size(); ++i) {
+        CarState& car = st.cars[i];
+        if (!car.active) continue;
+        const ResolveStats r = resolve(sc.track, sc.grid, sc.broadphase, sc.physics, scr.previous_position[i],
+                                       car.position, car.velocity, scr.candidates[i]);
+        scr.pushes += r.pushes;
+        scr.capped += r.capped ? 1 : 0;
+    }
+}
+
+// Phase 4: gates, laps, respawn; quantise position and velocity; find the
+// contacts where the car now is and align it to them; quantise orientation.
+void rules_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
+    const PhysicsSettings& ps = sc.physics;
+    for (std::size_t i = 0; i < st.cars.size(); ++i) {
+        CarState& car = st.cars[i];
+        if (!car.active) continue;
+        apply_race_rules(sc.track, ps, st.laps, st.tick, st.tick >= st.start_tick, scr.previous_position[i], car);
+        if (ps.quantize_state) quantize_motion(car);
+        Candidates& cand = scr.candidates[i];
+        const double reach = ps.car_radius_m + ps.contact_skin_m;
+        if (!cand.covers(car.position, reach)) {
+            gather_candidates(sc.track, sc.grid, sc.broadphase, car.position, reach + kGatherMargin_m, cand);
+        }
+        if (!scr.contacts_valid[i] || scr.contacts_at[i] != car.position) {
+            find_contacts(sc.track, cand, ps, car.position, scr.contacts[i]);
+            scr.contacts_at[i] = car.position;
+            scr.contacts_valid[i] = 1;
+        }
+        align_to_contacts(ps, scr.contacts[i], car);
+        if (ps.quantize_state) quantize_orientation(car);
+    }
+}
+
+}  // namespace
+
+void step(const Scene& scene, WorldState& state, std::span<const Input> inputs, StepScratch& scratch) {
+    ensure_scratch(state.cars.size(), scratch);
+    drive_phase(scene, state, inputs, scratch);
+    collide_cars(scene.physics.car_radius_m, state.cars);  // phase 2
+    resolve_phase(scene, state, scratch);
+    rules_phase(scene, state, scratch);
+    ++state.tick;
+}
+
+std::uint64_t state_hash(const WorldState& s) {
+    Fnv1a h;
+    h.u32(s.tick);
+    h.u32(s.start_tick);
+    h.i32(s.laps);
+    h.u32(static_cast<std::uint32_t>(s.cars.size()));
+    for (const CarState& c : s.cars) {
+        h.u8(c.active ? 1 : 0);
+        h.u8(c.finished ? 1 : 0);
+        h.vec3(c.position);
+        h.vec3(c.velocity);
+        h.f64(c.orientation.w());
+        h.f64(c.orientation.x());
+        h.f64(c.orientation.y());
+        h.f64(c.orientation.z());
+        h.i32(c.next_checkpoint);
+        h.i32(c.lap);
+        h.i32(c.respawn_checkpoint);
+        h.u32(c.finish_tick);
+        h.f64(c.finish_fraction);
+        h.u32(c.respawns);
+        h.f64(c.best_gate_distance_m);
+        h.u32(c.no_progress_ticks);
+    }
+    return h.value();
+}
+
+std::string hash_hex(std::uint64_t h) {
+    char buf[17];
+    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+    return buf;
+}
+
+}  // namespace jetrace

@@ -1,0 +1,98 @@
+// jetrace-bench: benchmarks that print machine-readable JSON.
+//   seed   the seed article's benchmark: one car idling on `stadium`,
+//          grid on, then off (brute force).
+#include "jetrace/builtin_tracks.hpp"
+#include "jetrace/world.hpp"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <vector>
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// Nanoseconds per frame of one car idling for `frames` frames.
+double idle_ns_per_frame(const jetrace::Scene& scene, std::uint32_t frames, std::uint64_t& hash_out) {
+    jetrace::WorldState st = jetrace::make_world(1, 1);
+    jetrace::spawn_car(scene, st, 0, 0);
+    jetrace::StepScratch scratch;
+    const jetrace::Input idle{};
+    const auto t0 = Clock::now();
+    for (std::uint32_t f = 0; f < frames; ++f) jetrace::step(scene, st, {&idle, 1}, scratch);
+    const auto t1 = Clock::now();
+    hash_out = jetrace::state_hash(st);
+    return std::chrono::duration<double, std::nano>(t1 - t0).count() / frames;
+}
+
+int run_seed(std::uint32_t frames, int repeats, bool grid_off) {
+    jetrace::Track track = jetrace::make_oval(jetrace::stadium_params());
+    const std::size_t triangles = track.triangles.size();
+    const jetrace::PhysicsSettings physics;
+
+    std::vector<double> build_ms, on, off;
+    std::uint64_t hash_on = 0, hash_off = 0;
+    for (int r = 0; r < repeats; ++r) {
+        const auto t0 = Clock::now();
+        jetrace::Scene scene = jetrace::Scene::make(track, physics);
+        build_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+        scene.broadphase = jetrace::Broadphase::grid;
+        on.push_back(idle_ns_per_frame(scene, frames, hash_on));
+        if (grid_off) {
+            scene.broadphase = jetrace::Broadphase::brute_force;
+            off.push_back(idle_ns_per_frame(scene, frames, hash_off));
+        }
+    }
+    jetrace::Scene scene = jetrace::Scene::make(track, physics);
+    nlohmann::json j;
+    j["benchmark"] = "seed";
+    j["track"] = "stadium";
+    j["triangles"] = triangles;
+    j["frames"] = frames;
+    j["repeats"] = repeats;
+    j["grid_on_ns_per_frame"] = median(on);
+    if (!grid_off) off.push_back(0.0), hash_off = hash_on;
+    j["grid_off_ns_per_frame"] = median(off);
+    j["grid_on_runs_ns"] = on;
+    j["grid_off_runs_ns"] = off;
+    j["speedup_grid"] = median(off) / median(on);
+    j["grid_build_ms"] = median(build_ms);
+    j["grid_cell_m"] = scene.grid.cell_size_m();
+    j["grid_cells"] = scene.grid.cell_count();
+    j["grid_entries"] = scene.grid.entry_count();
+    j["grid_bytes"] = scene.grid.memory_bytes();
+    // The seed (Lua): 187,000 ns/frame grid on (incl. set-up), 1,630,000 off.
+    j["seed_grid_on_ns_per_frame"] = 187000;
+    j["seed_grid_off_ns_per_frame"] = 1630000;
+    j["times_faster_than_seed_grid_on"] = 187000.0 / median(on);
+    j["same_final_state"] = hash_on == hash_off;
+    std::printf("%s\n", j.dump().c_str());
+    return hash_on == hash_off ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"jetrace-bench: benchmarks printing one JSON object per result"};
+    app.require_subcommand(1);
+    std::uint32_t frames = 100000;
+    int repeats = 3;
+    auto* seed = app.add_subcommand("seed", "the seed's benchmark: one car idling on stadium, grid on then off");
+    seed->add_option("--frames", frames, "physics frames per run")->check(CLI::Range(1u, 100000000u));
+    seed->add_option("--repeats", repeats, "runs per variant; the median is reported")->check(CLI::Range(1, 100));
+    bool no_grid_off = false;
+    seed->add_flag("--no-grid-off", no_grid_off, "skip the brute-force runs (for profiling the grid path)");
+    CLI11_PARSE(app, argc, argv);
+    if (seed->parsed()) return run_seed(frames, repeats, !no_grid_off);
+    return 2;
+}
