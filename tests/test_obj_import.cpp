@@ -122,8 +122,9 @@ TEST(ObjImport, MinimalTrack) {
 }
 
 TEST(ObjImport, KillHeightGroupAndCrlfAndNumberedNames) {
-    std::string text = kFloor + "g track.wall\nv 50 0 -50\nv 50 0 50\nv 50 5 50\nf -3 -2 -1\n" + kGate0 +
-                       gate("checkpoint_01", 20) + kSpawn0 + "g kill_height\nv 0 -7.5 0\nv 1 -7 0\nv 0 -7 1\nf -3 -2 -1\n";
+    const std::string wall = "g track.wall\nv 50 0 -50\nv 50 0 50\nv 50 5 50\nf -3 -2 -1\n";
+    const std::string kill = "g kill_height\nv 0 -7.5 0\nv 1 -7 0\nv 0 -7 1\nf -3 -2 -1\n";
+    const std::string text = kFloor + wall + kGate0 + gate("checkpoint_01", 20) + kSpawn0 + kill;
     std::string crlf;
     for (char c : text) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
     Track t;

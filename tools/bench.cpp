@@ -80,6 +80,55 @@ int run_seed(std::uint32_t frames, int repeats, bool grid_off) {
     return hash_on == hash_off ? 0 : 1;
 }
 
+// One car in free flight (no track contact) for `seconds`, from a fixed
+// launch; returns the final position.
+jetrace::Vec3 fly(const jetrace::PhysicsSettings& ps, double seconds) {
+    jetrace::CarState car;
+    car.active = true;
+    car.position = jetrace::Vec3(0, 500, 0);
+    car.velocity = jetrace::Vec3(80, 30, 10);
+    const jetrace::Contacts none;
+    const jetrace::Input idle{};
+    const auto steps = static_cast<int>(seconds * ps.tick_rate_hz + 0.5);
+    for (int i = 0; i < steps; ++i) {
+        const jetrace::Vec3 v0 = car.velocity;
+        jetrace::apply_controls_and_forces(ps, none, idle, car);
+        jetrace::integrate(ps, v0, car);
+    }
+    return car.position;
+}
+
+// Integrators against references: a ballistic jump without drag (analytic)
+// and a flight with drag (reference: semi-implicit Euler at 7,680 Hz).
+int run_integrators() {
+    const double seconds = 4.0;
+    jetrace::PhysicsSettings ref_ps;
+    ref_ps.tick_rate_hz = 7680;
+    const jetrace::Vec3 drag_ref = fly(ref_ps, seconds);
+    const jetrace::Vec3 p0(0, 500, 0), v0(80, 30, 10);
+    const jetrace::Vec3 ballistic_ref = p0 + v0 * seconds + jetrace::Vec3(0, -0.5 * 9.81 * seconds * seconds, 0);
+    for (jetrace::Integrator in : {jetrace::Integrator::explicit_euler, jetrace::Integrator::semi_implicit_euler,
+                                   jetrace::Integrator::velocity_verlet}) {
+        for (int hz : {30, 60, 120, 240, 480}) {
+            jetrace::PhysicsSettings ps;
+            ps.integrator = in;
+            ps.tick_rate_hz = hz;
+            const double drag_err = (fly(ps, seconds) - drag_ref).norm();
+            ps.drag_per_m = 0.0;
+            const double ballistic_err = (fly(ps, seconds) - ballistic_ref).norm();
+            nlohmann::json j;
+            j["benchmark"] = "integrators";
+            j["integrator"] = jetrace::to_string(in);
+            j["tick_rate_hz"] = hz;
+            j["flight_s"] = seconds;
+            j["ballistic_error_m"] = ballistic_err;
+            j["drag_flight_error_m"] = drag_err;
+            std::printf("%s\n", j.dump().c_str());
+        }
+    }
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -92,7 +141,9 @@ int main(int argc, char** argv) {
     seed->add_option("--repeats", repeats, "runs per variant; the median is reported")->check(CLI::Range(1, 100));
     bool no_grid_off = false;
     seed->add_flag("--no-grid-off", no_grid_off, "skip the brute-force runs (for profiling the grid path)");
+    auto* integrators = app.add_subcommand("integrators", "integrator error against analytic and fine-step references");
     CLI11_PARSE(app, argc, argv);
     if (seed->parsed()) return run_seed(frames, repeats, !no_grid_off);
+    if (integrators->parsed()) return run_integrators();
     return 2;
 }

@@ -1,12 +1,49 @@
 // jetrace-sim: an offline race of AI cars, or the re-simulation of a replay.
 #include "jetrace/offline_race.hpp"
 #include "jetrace/race.hpp"
+#include "jetrace/server/replay.hpp"
 #include "jetrace/track_io.hpp"
 
 #include <CLI/CLI.hpp>
 
 #include <chrono>
 #include <cstdio>
+
+namespace {
+
+// Re-simulates a replay and prints the same state_hash= line as the server.
+int run_replay_file(const std::string& path, std::string track_spec, bool track_given) {
+    jetrace::Replay replay;
+    std::string error;
+    if (!jetrace::read_replay(path, replay, error)) {
+        std::fprintf(stderr, "jetrace-sim: %s\n", error.c_str());
+        return 2;
+    }
+    if (!track_given) track_spec = replay.header.track_name;
+    jetrace::Track track;
+    if (!jetrace::load_track(track_spec, track, error)) {
+        std::fprintf(stderr, "jetrace-sim: %s (pass --track FILE.obj for an imported track)\n", error.c_str());
+        return 2;
+    }
+    jetrace::PhysicsSettings physics;
+    physics.tick_rate_hz = replay.header.tick_rate_hz;
+    if (const std::string e = jetrace::validate(physics); !e.empty()) {
+        std::fprintf(stderr, "jetrace-sim: replay: %s\n", e.c_str());
+        return 2;
+    }
+    const jetrace::Scene scene = jetrace::Scene::make(std::move(track), physics);
+    if (!jetrace::check_replay(scene, replay, jetrace::physics_fingerprint(physics), error)) {
+        std::fprintf(stderr, "jetrace-sim: %s\n", error.c_str());
+        return 2;
+    }
+    const jetrace::WorldState final_state = jetrace::run_replay(scene, replay);
+    std::printf("replay %s: track %s, %zu ticks%s\n", path.c_str(), scene.track.name.c_str(), replay.ticks.size(),
+                replay.truncated ? " (last record cut short, ignored)" : "");
+    std::printf("state_hash=%s\n", jetrace::hash_hex(jetrace::state_hash(final_state)).c_str());
+    return 0;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
     CLI::App app{"jetrace-sim: an offline race of AI cars on the deterministic core"};
@@ -20,7 +57,14 @@ int main(int argc, char** argv) {
     app.add_option("--seconds", seconds, "simulated seconds")->check(CLI::Range(0.0, 86400.0));
     app.add_option("--seed", seed, "seed for the AI drivers' skills");
     app.add_option("--laps", laps, "laps to finish")->check(CLI::Range(1, 1000));
+    std::string replay_path;
+    app.add_option("--replay", replay_path, "re-simulate a replay recorded by jetrace-server --record")
+        ->excludes("--cars")
+        ->excludes("--seconds")
+        ->excludes("--seed")
+        ->excludes("--laps");
     CLI11_PARSE(app, argc, argv);
+    if (!replay_path.empty()) return run_replay_file(replay_path, track_spec, app.count("--track") > 0);
 
     jetrace::Track track;
     std::string error;

@@ -16,6 +16,7 @@ Triangle Triangle::make(const Vec3& a, const Vec3& b, const Vec3& c) {
         t.normal = Vec3::Zero();
     } else {
         t.normal = n / std::sqrt(len2);
+        t.thin = len2 < 1e-6 * scale * scale;
     }
     return t;
 }
@@ -36,16 +37,44 @@ Vec3 closest_point_on_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
     return a + ab * t;
 }
 
-ClosestPoint closest_point_on_triangle(const Vec3& p, const Triangle& t) {
-    if (t.degenerate) {
-        const Vec3 q0 = closest_point_on_segment(p, t.a, t.b);
-        const Vec3 q1 = closest_point_on_segment(p, t.b, t.c);
-        const Vec3 q2 = closest_point_on_segment(p, t.c, t.a);
-        const double d0 = (p - q0).squaredNorm(), d1 = (p - q1).squaredNorm(), d2 = (p - q2).squaredNorm();
-        if (d0 <= d1 && d0 <= d2) return {q0, TriRegion::edge_ab};
-        if (d1 <= d2) return {q1, TriRegion::edge_bc};
-        return {q2, TriRegion::edge_ca};
+namespace {
+
+// The closest of the three edges (vertices included), with its region.
+ClosestPoint closest_on_edges(const Vec3& p, const Triangle& t) {
+    const Vec3 q0 = closest_point_on_segment(p, t.a, t.b);
+    const Vec3 q1 = closest_point_on_segment(p, t.b, t.c);
+    const Vec3 q2 = closest_point_on_segment(p, t.c, t.a);
+    const double d0 = (p - q0).squaredNorm(), d1 = (p - q1).squaredNorm(), d2 = (p - q2).squaredNorm();
+    ClosestPoint r;
+    if (d0 <= d1 && d0 <= d2) {
+        r = {q0, TriRegion::edge_ab};
+    } else if (d1 <= d2) {
+        r = {q1, TriRegion::edge_bc};
+    } else {
+        r = {q2, TriRegion::edge_ca};
     }
+    if (r.point == t.a) r.region = TriRegion::vertex_a;
+    if (r.point == t.b) r.region = TriRegion::vertex_b;
+    if (r.point == t.c) r.region = TriRegion::vertex_c;
+    return r;
+}
+
+// Slivers: project onto the plane; inside all three edges -> face, else the
+// nearest edge. Every quantity is a well-conditioned dot or cross product.
+ClosestPoint closest_on_thin(const Vec3& p, const Triangle& t) {
+    const Vec3 q = p - t.normal * (p - t.a).dot(t.normal);
+    const bool inside = (t.b - t.a).cross(q - t.a).dot(t.normal) >= 0.0 &&
+                        (t.c - t.b).cross(q - t.b).dot(t.normal) >= 0.0 &&
+                        (t.a - t.c).cross(q - t.c).dot(t.normal) >= 0.0;
+    if (inside) return {q, TriRegion::face};
+    return closest_on_edges(p, t);
+}
+
+}  // namespace
+
+ClosestPoint closest_point_on_triangle(const Vec3& p, const Triangle& t) {
+    if (t.degenerate) return closest_on_edges(p, t);
+    if (t.thin) return closest_on_thin(p, t);
     const Vec3& a = t.a;
     const Vec3& b = t.b;
     const Vec3& c = t.c;

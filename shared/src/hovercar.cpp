@@ -151,7 +151,7 @@ void quantize_motion(CarState& car) {
 }
 
 void quantize_orientation(CarState& car) {
-    Quat q = car.unit_orientation();
+    Quat q = car.unit_orientation();  // near unit after a step: cheap path
     if (q.w() < 0.0) q.coeffs() = -q.coeffs();  // one representative: w >= 0
     car.orientation = Quat(quantize(q.w(), kQuatBits), quantize(q.x(), kQuatBits), quantize(q.y(), kQuatBits),
                            quantize(q.z(), kQuatBits));

@@ -112,7 +112,9 @@ bool scan_face_ref(std::string_view tok, std::size_t line, Scan& s, std::string&
     if (num.size() > 1 && num[0] == '+' && num[1] != '-') num.remove_prefix(1);
     int idx = 0;
     const auto r = std::from_chars(num.data(), num.data() + num.size(), idx);
-    if (r.ec == std::errc::result_out_of_range) return fail(error, at_line(line) + "face index " + quoted(num) + " is out of range");
+    if (r.ec == std::errc::result_out_of_range) {
+        return fail(error, at_line(line) + "face index " + quoted(num) + " is out of range");
+    }
     if (r.ec != std::errc() || r.ptr != num.data() + num.size() || num.empty()) {
         return fail(error, at_line(line) + "bad face vertex " + quoted(tok));
     }
@@ -202,7 +204,6 @@ struct Group {
 struct Parts {
     std::vector<std::uint32_t> track;
     std::map<long, Group> gates, spawns;
-    bool has_kill = false;
     std::vector<std::uint32_t> kill;
 };
 
@@ -232,11 +233,7 @@ bool collect_groups(const tinyobj::ObjReader& reader, std::size_t nverts, std::m
 int numbered(const std::string& name, std::string_view prefix, long& n) {
     if (!name.starts_with(prefix)) return 0;
     const std::string_view digits = std::string_view(name).substr(prefix.size());
-    if (digits.empty() || digits.size() > 9 || !std::all_of(digits.begin(), digits.end(), [](char c) {
-            return c >= '0' && c <= '9';
-        })) {
-        return -1;
-    }
+    if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != digits.npos) return -1;
     std::from_chars(digits.data(), digits.data() + digits.size(), n);
     return 1;
 }
@@ -264,7 +261,6 @@ bool classify(std::map<std::string, Group>& groups, const Scan& s, Parts& p, std
         if (name.starts_with("track")) {
             p.track.insert(p.track.end(), g.idx.begin(), g.idx.end());
         } else if (name == "kill_height") {
-            p.has_kill = true;
             p.kill = g.idx;
         } else if (const int c = numbered(name, "checkpoint_", n); c != 0) {
             if (c < 0) return fail(error, where + "group " + quoted(name) + ": expected checkpoint_<number>");
@@ -289,6 +285,22 @@ bool check_numbering(const std::map<long, Group>& m, const char* what, std::stri
         ++expected;
     }
     return true;
+}
+
+bool check_parts(const Parts& p, std::string& error) {
+    if (p.track.empty()) {
+        return fail(error, "no 'track' group: the drivable mesh must be under 'g track' (or a name starting 'track')");
+    }
+    if (p.track.size() / 3 > kMaxTrackTriangles) {
+        return fail(error, "the track has " + std::to_string(p.track.size() / 3) + " triangles; at most " +
+                               std::to_string(kMaxTrackTriangles) + " are allowed");
+    }
+    if (p.gates.size() < 2) {
+        return fail(error, "the track needs at least 2 checkpoints (checkpoint_0 is the start/finish line), found " +
+                               std::to_string(p.gates.size()));
+    }
+    if (p.spawns.empty()) return fail(error, "no spawn: add at least one 'spawn_0' triangle");
+    return check_numbering(p.gates, "checkpoint", error) && check_numbering(p.spawns, "spawn", error);
 }
 
 // ------------------------------------------------------------- geometry
@@ -445,12 +457,11 @@ void put(std::string& out, double x) {
 }
 
 void put_vertex(std::string& out, const Vec3& p) {
-    out += "v ";
-    put(out, p.x());
-    out += ' ';
-    put(out, p.y());
-    out += ' ';
-    put(out, p.z());
+    out += 'v';
+    for (int i = 0; i < 3; ++i) {
+        out += ' ';
+        put(out, p[i]);
+    }
     out += '\n';
 }
 
@@ -471,49 +482,22 @@ bool import_obj(std::string_view text, const std::string& name, Track& out, std:
     Scan scan;
     std::map<std::string, Group> groups;
     Parts parts;
-    if (!parse_obj(text, scan, groups, error) || !classify(groups, scan, parts, error)) return false;
-    if (parts.track.empty()) {
-        error = "no 'track' group: the drivable mesh must be under 'g track' (or a name starting with 'track')";
-        return false;
-    }
-    if (parts.track.size() / 3 > kMaxTrackTriangles) {
-        error = "the track has " + std::to_string(parts.track.size() / 3) + " triangles; at most " +
-                std::to_string(kMaxTrackTriangles) + " are allowed";
-        return false;
-    }
-    if (parts.gates.size() < 2) {
-        error = "the track needs at least 2 checkpoints (checkpoint_0 is the start/finish line), found " +
-                std::to_string(parts.gates.size());
-        return false;
-    }
-    if (parts.spawns.empty()) {
-        error = "no spawn: add at least one 'spawn_0' triangle";
-        return false;
-    }
-    if (!check_numbering(parts.gates, "checkpoint", error) || !check_numbering(parts.spawns, "spawn", error)) {
+    if (!parse_obj(text, scan, groups, error) || !classify(groups, scan, parts, error) || !check_parts(parts, error)) {
         return false;
     }
     Track track = make_track(name, scan.vertices, parts.track, {}, {}, 0.0);
     for (const auto& [n, g] : parts.gates) {
-        Checkpoint c;
-        if (!fit_gate(n, scan.vertices, g, track.triangles, c, error)) return false;
-        track.checkpoints.push_back(c);
+        if (!fit_gate(n, scan.vertices, g, track.triangles, track.checkpoints.emplace_back(), error)) return false;
     }
     for (const auto& [n, g] : parts.spawns) {
-        Pose p;
-        if (!make_spawn(n, scan.vertices, g, track.triangles, p, error)) return false;
-        track.spawns.push_back(p);
+        if (!make_spawn(n, scan.vertices, g, track.triangles, track.spawns.emplace_back(), error)) return false;
     }
-    double kill = track.bounds.min.y() - 50.0;
-    if (parts.has_kill) {
-        kill = scan.vertices[parts.kill[0]].y();
-        for (std::uint32_t i : parts.kill) kill = std::min(kill, scan.vertices[i].y());
+    track.kill_height_m = track.bounds.min.y() - 50.0;
+    if (!parts.kill.empty()) {
+        track.kill_height_m = scan.vertices[parts.kill[0]].y();
+        for (std::uint32_t i : parts.kill) track.kill_height_m = std::min(track.kill_height_m, scan.vertices[i].y());
     }
-    track.kill_height_m = kill;
-    if (std::string problem = validate(track); !problem.empty()) {
-        error = std::move(problem);
-        return false;
-    }
+    if (std::string problem = validate(track); !problem.empty()) return fail(error, std::move(problem));
     out = std::move(track);
     return true;
 }

@@ -23,15 +23,18 @@ void apply_race_rules(const Track& track, const PhysicsSettings& ps, std::int32_
                 }
             }
             car.next_checkpoint = (car.next_checkpoint + 1) % gates;
-            car.best_gate_distance_m = 1e9;
+            car.best_gate_distance_m = kFarFromGate_m;
             car.no_progress_ticks = 0;
         }
     }
     bool lost = false;
     if (racing && !car.finished && gates > 0) {
-        const double d = distance_to_gate(track.checkpoints[static_cast<std::size_t>(car.next_checkpoint)], car.position);
-        if (d < car.best_gate_distance_m - 1.0) {
-            car.best_gate_distance_m = d;
+        // Progress: the distance to the gate, in whole metres, went down.
+        const double goal = static_cast<double>(car.best_gate_distance_m);
+        const double d2 =
+            squared_distance_to_gate(track.checkpoints[static_cast<std::size_t>(car.next_checkpoint)], car.position);
+        if (d2 < goal * goal) {
+            car.best_gate_distance_m = static_cast<std::int32_t>(std::floor(std::sqrt(d2)));
             car.no_progress_ticks = 0;
         } else {
             ++car.no_progress_ticks;
@@ -40,7 +43,7 @@ void apply_race_rules(const Track& track, const PhysicsSettings& ps, std::int32_
     }
     if ((car.position.y() < track.kill_height_m || lost) && gates > 0) {
         place_car(car, track.checkpoints[static_cast<std::size_t>(car.respawn_checkpoint)].respawn);
-        car.best_gate_distance_m = 1e9;
+        car.best_gate_distance_m = kFarFromGate_m;
         car.no_progress_ticks = 0;
         ++car.respawns;
     }

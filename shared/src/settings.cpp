@@ -1,5 +1,7 @@
 #include "jetrace/settings.hpp"
 
+#include "jetrace/math.hpp"
+
 #include <cmath>
 #include <sstream>
 
@@ -46,6 +48,28 @@ std::string validate(const PhysicsSettings& s) {
     if (!finite_positive(s.contact_skin_m) || s.contact_skin_m <= s.resolver_epsilon_m || s.contact_skin_m > 1.0)
         err << "contact_skin_m must be in (resolver_epsilon_m, 1]; ";
     return err.str();
+}
+
+std::uint64_t physics_fingerprint(const PhysicsSettings& s) {
+    Fnv1a h;
+    h.i32(s.tick_rate_hz);
+    h.f64(s.gravity_mps2);
+    h.f64(s.car_radius_m);
+    h.f64(s.thrust_mps2);
+    h.f64(s.drag_per_m);
+    h.f64(s.brake_mps2);
+    h.f64(s.steer_rate_radps);
+    h.f64(s.grip_mps2);
+    h.f64(s.slide_mps2);
+    h.f64(s.align_rate_per_s);
+    h.f64(s.ride_min_cos);
+    h.f64(s.no_progress_s);
+    h.i32(s.resolver_passes);
+    h.f64(s.resolver_epsilon_m);
+    h.f64(s.contact_skin_m);
+    h.u8(static_cast<std::uint8_t>(s.integrator));
+    h.u8(s.quantize_state ? 1 : 0);
+    return h.value();
 }
 
 }  // namespace jetrace

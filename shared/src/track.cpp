@@ -16,12 +16,14 @@ GateCrossing cross_gate(const Checkpoint& g, const Vec3& from, const Vec3& to) {
     return {true, f};
 }
 
-double distance_to_gate(const Checkpoint& g, const Vec3& p) {
+double squared_distance_to_gate(const Checkpoint& g, const Vec3& p) {
     const Vec3 q = p - g.center;
     const double a = std::clamp(q.dot(g.across), -g.half_width_m, g.half_width_m);
     const double u = std::clamp(q.dot(g.up), -g.half_height_m, g.half_height_m);
-    return (q - g.across * a - g.up * u).norm();
+    return (q - g.across * a - g.up * u).squaredNorm();
 }
+
+double distance_to_gate(const Checkpoint& g, const Vec3& p) { return std::sqrt(squared_distance_to_gate(g, p)); }
 
 std::uint64_t Track::identity() const {
     Fnv1a h;

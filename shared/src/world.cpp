@@ -131,30 +131,38 @@ void step(const Scene& scene, WorldState& state, std::span<const Input> inputs, 
     ++state.tick;
 }
 
+void hash_car(Fnv1a& h, const CarState& c) {
+    h.u8(c.active ? 1 : 0);
+    h.u8(c.finished ? 1 : 0);
+    h.vec3(c.position);
+    h.vec3(c.velocity);
+    h.f64(c.orientation.w());
+    h.f64(c.orientation.x());
+    h.f64(c.orientation.y());
+    h.f64(c.orientation.z());
+    h.i32(c.next_checkpoint);
+    h.i32(c.lap);
+    h.i32(c.respawn_checkpoint);
+    h.u32(c.finish_tick);
+    h.f64(c.finish_fraction);
+    h.u32(c.respawns);
+    h.i32(c.best_gate_distance_m);
+    h.u32(c.no_progress_ticks);
+}
+
+std::uint64_t car_hash(const CarState& c) {
+    Fnv1a h;
+    hash_car(h, c);
+    return h.value();
+}
+
 std::uint64_t state_hash(const WorldState& s) {
     Fnv1a h;
     h.u32(s.tick);
     h.u32(s.start_tick);
     h.i32(s.laps);
     h.u32(static_cast<std::uint32_t>(s.cars.size()));
-    for (const CarState& c : s.cars) {
-        h.u8(c.active ? 1 : 0);
-        h.u8(c.finished ? 1 : 0);
-        h.vec3(c.position);
-        h.vec3(c.velocity);
-        h.f64(c.orientation.w());
-        h.f64(c.orientation.x());
-        h.f64(c.orientation.y());
-        h.f64(c.orientation.z());
-        h.i32(c.next_checkpoint);
-        h.i32(c.lap);
-        h.i32(c.respawn_checkpoint);
-        h.u32(c.finish_tick);
-        h.f64(c.finish_fraction);
-        h.u32(c.respawns);
-        h.f64(c.best_gate_distance_m);
-        h.u32(c.no_progress_ticks);
-    }
+    for (const CarState& c : s.cars) hash_car(h, c);
     return h.value();
 }
 

@@ -33,6 +33,10 @@ struct Triangle {
     /// True when the triangle has (almost) no area: it is then treated as its
     /// three edges.
     bool degenerate = false;
+    /// True for a sliver (height below 1e-3 of its longest edge): its closest
+    /// point is found by projection and edge tests, which stay exact where
+    /// the Voronoi-region arithmetic loses its digits to cancellation.
+    bool thin = false;
 
     static Triangle make(const Vec3& a, const Vec3& b, const Vec3& c);
     Aabb bounds() const;

@@ -34,6 +34,9 @@ struct Input {
     bool operator==(const Input&) const = default;
 };
 
+/// best_gate_distance_m of a car that has not yet approached its next gate.
+inline constexpr std::int32_t kFarFromGate_m = 1 << 30;
+
 /// Everything that changes about a car from tick to tick. All of it is part
 /// of the state hash and of snapshots.
 struct CarState {
@@ -60,12 +63,12 @@ struct CarState {
     double finish_fraction = 0;
     /// Times the car fell below the kill height or made no progress.
     std::uint32_t respawns = 0;
-    /// Closest the car has come to its next gate's centre (unit: m).
-    double best_gate_distance_m = 1e9;
+    /// Closest the car has come to its next gate, in whole metres (unit: m).
+    std::int32_t best_gate_distance_m = kFarFromGate_m;
     /// Racing ticks since best_gate_distance_m last improved by 1 m.
     std::uint32_t no_progress_ticks = 0;
 
-    Quat unit_orientation() const { return orientation.normalized(); }
+    Quat unit_orientation() const { return normalized_near_unit(orientation); }
     Vec3 forward() const { return axis_z(unit_orientation()); }
     Vec3 up() const { return axis_y(unit_orientation()); }
 };

@@ -62,6 +62,19 @@ inline double quantize(double x, int bits) {
     return std::nearbyint(y) / scale;
 }
 
+/// q / |q| for a quaternion already within about 1e-3 of unit length (such
+/// as a quantised unit quaternion): two Newton steps for 1/sqrt, no sqrt or
+/// division; falls back to an exact normalisation farther from unit.
+inline Quat normalized_near_unit(const Quat& q) {
+    double n2 = q.squaredNorm();
+    if (!(n2 > 0.999 && n2 < 1.001)) return q.normalized();
+    Eigen::Vector4d c = q.coeffs();
+    c *= 1.5 - 0.5 * n2;
+    n2 = c.squaredNorm();
+    c *= 1.5 - 0.5 * n2;
+    return Quat(c);
+}
+
 /// Image of local +Y (up) under unit quaternion q.
 inline Vec3 axis_y(const Quat& q) {
     const double w = q.w(), x = q.x(), y = q.y(), z = q.z();

@@ -44,8 +44,9 @@ struct GateCrossing {
 
 GateCrossing cross_gate(const Checkpoint& gate, const Vec3& from, const Vec3& to);
 
-/// Distance from `p` to the gate's rectangle (unit: m).
+/// Distance from `p` to the gate's rectangle (unit: m), and its square.
 double distance_to_gate(const Checkpoint& gate, const Vec3& p);
+double squared_distance_to_gate(const Checkpoint& gate, const Vec3& p);
 
 struct Track {
     std::string name;

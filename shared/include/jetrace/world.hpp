@@ -67,6 +67,10 @@ void step(const Scene& scene, WorldState& state, std::span<const Input> inputs, 
 
 /// 64-bit hash over the raw bits of the whole state, in slot order.
 std::uint64_t state_hash(const WorldState& state);
+/// Feeds every field of one car, raw bits, into `h`.
+void hash_car(Fnv1a& h, const CarState& car);
+/// Hash of one car (equal hashes: bit-identical cars, for all practical purposes).
+std::uint64_t car_hash(const CarState& car);
 /// 16 lowercase hex digits.
 std::string hash_hex(std::uint64_t h);
 

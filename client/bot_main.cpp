@@ -1,0 +1,208 @@
+// jetrace-bot: K AI drivers, each its own client and ENet connection.
+#include "jetrace/builtin_tracks.hpp"
+#include "jetrace/client/race_client.hpp"
+#include "jetrace/driver_ai.hpp"
+#include "jetrace/offline_race.hpp"
+#include "jetrace/track_io.hpp"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <thread>
+
+int main(int argc, char** argv) {
+    CLI::App app{"jetrace-bot: AI drivers that connect to a jetrace server"};
+    std::string connect;
+    int count = 1;
+    std::string prefix = "bot";
+    int races = 1;
+    std::string track_spec;
+    std::string log_level = "warn";
+    double time_scale = 1.0;
+    double max_seconds = 3600;
+    std::uint64_t seed = 1;
+    app.add_option("--connect", connect, "server address HOST:PORT")->required();
+    app.add_option("--count", count, "number of bots")->check(CLI::Range(1, 64));
+    app.add_option("--name", prefix, "name prefix (bots are PREFIX0, PREFIX1, ...)");
+    app.add_option("--races", races, "leave after this many races")->check(CLI::Range(1, 1000000));
+    app.add_option("--track", track_spec, "the .obj file the server uses (built-in tracks are found by name)");
+    app.add_option("--seed", seed, "seed for the drivers' skills");
+    app.add_option("--log-level", log_level, "trace, debug, info, warn, error, off")
+        ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
+    app.add_option("--time-scale", time_scale, "run the clock this many times faster than real time (tests)")
+        ->check(CLI::Range(0.01, 100.0));
+    app.add_option("--max-seconds", max_seconds, "give up after this many wall-clock seconds")
+        ->check(CLI::Range(1.0, 1e7));
+    CLI11_PARSE(app, argc, argv);
+    spdlog::set_level(spdlog::level::from_str(log_level));
+    spdlog::set_pattern("[%H:%M:%S.%e] [bot] [%l] %v");
+
+    const auto colon = connect.rfind(':');
+    int port = 0;
+    if (colon == std::string::npos || colon == 0 || std::sscanf(connect.c_str() + colon + 1, "%d", &port) != 1 ||
+        port < 1 || port > 65535) {
+        std::fprintf(stderr, "jetrace-bot: --connect must be HOST:PORT, got '%s'\n", connect.c_str());
+        return 2;
+    }
+    const std::string host = connect.substr(0, colon);
+
+    // The track comes from the server's Welcome for built-in tracks; an OBJ
+    // track must be given so the bots can load the same file. Build every
+    // candidate scene up front, pick by identity after the welcome.
+    std::vector<std::unique_ptr<jetrace::Scene>> scenes;
+    const jetrace::PhysicsSettings physics;
+    std::string error;
+    if (!track_spec.empty()) {
+        jetrace::Track t;
+        if (!jetrace::load_track(track_spec, t, error)) {
+            std::fprintf(stderr, "jetrace-bot: %s\n", error.c_str());
+            return 2;
+        }
+        scenes.push_back(std::make_unique<jetrace::Scene>(jetrace::Scene::make(std::move(t), physics)));
+    }
+    for (const std::string& name : jetrace::builtin_track_names()) {
+        jetrace::Track t;
+        jetrace::make_builtin_track(name, t);
+        scenes.push_back(std::make_unique<jetrace::Scene>(jetrace::Scene::make(std::move(t), physics)));
+    }
+    // All scenes are tried by the probe client below; simplest robust choice:
+    // one transport + client per bot per candidate is wasteful, so ask the
+    // server once which track it runs.
+    struct Bot {
+        std::unique_ptr<jetrace::net::Transport> transport;
+        std::unique_ptr<jetrace::client::RaceClient> client;
+        std::string name;
+        jetrace::DriverSkill skill;
+        bool done = false;
+    };
+    const auto skills = jetrace::skills_for(count, seed);
+    std::vector<Bot> bots;
+    using Clock = std::chrono::steady_clock;
+    const auto start = Clock::now();
+    const auto now_us = [&] {
+        return static_cast<std::uint64_t>(std::chrono::duration<double, std::micro>(Clock::now() - start).count() *
+                                          time_scale);
+    };
+    const jetrace::Scene* scene = scenes.front().get();
+    if (track_spec.empty()) {
+        // Probe: the first bot's welcome names the track; the built-in one
+        // with the same identity is chosen.
+        scene = nullptr;
+        auto probe = jetrace::net::connect_enet(host, static_cast<std::uint16_t>(port), 5000, error);
+        if (!probe) {
+            std::fprintf(stderr, "jetrace-bot: %s\n", error.c_str());
+            return 1;
+        }
+        std::vector<jetrace::net::Event> ev;
+        const auto deadline = Clock::now() + std::chrono::seconds(10);
+        jetrace::proto::Welcome welcome;
+        bool got = false, refused = false;
+        while (!got && !refused && Clock::now() < deadline) {
+            ev.clear();
+            probe->service(now_us() / 1000, ev);
+            for (const auto& e : ev) {
+                if (e.type == jetrace::net::Event::Type::connected) {
+                    jetrace::proto::Hello h;
+                    h.name = prefix + "-probe";
+                    probe->send(0, jetrace::net::Channel::reliable, jetrace::proto::encode(h));
+                } else if (e.type == jetrace::net::Event::Type::received) {
+                    jetrace::proto::Message m;
+                    if (jetrace::proto::decode(e.data, m, error)) {
+                        if (auto* w = std::get_if<jetrace::proto::Welcome>(&m)) welcome = *w, got = true;
+                        if (auto* r = std::get_if<jetrace::proto::Refuse>(&m)) {
+                            std::fprintf(stderr, "jetrace-bot: refused: %s\n", r->reason.c_str());
+                            refused = true;
+                        }
+                    }
+                } else if (e.type == jetrace::net::Event::Type::disconnected) {
+                    refused = true;
+                }
+            }
+            probe->flush();
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        }
+        probe->send(0, jetrace::net::Channel::reliable, jetrace::proto::encode(jetrace::proto::Goodbye{"probe done"}));
+        probe->disconnect(0);
+        probe->flush();
+        probe.reset();
+        if (!got) {
+            std::fprintf(stderr, "jetrace-bot: no welcome from %s\n", connect.c_str());
+            return 1;
+        }
+        for (const auto& s : scenes) {
+            if (s->track.identity() == welcome.track_identity) scene = s.get();
+        }
+        if (!scene) {
+            std::fprintf(stderr, "jetrace-bot: the server runs track '%s', which is not built in: pass --track FILE.obj\n",
+                         welcome.track_name.c_str());
+            return 2;
+        }
+    }
+
+    for (int i = 0; i < count; ++i) {
+        Bot b;
+        b.name = prefix + std::to_string(i);
+        b.skill = skills[static_cast<std::size_t>(i)];
+        b.transport = jetrace::net::connect_enet(host, static_cast<std::uint16_t>(port), 5000, error);
+        if (!b.transport) {
+            std::fprintf(stderr, "jetrace-bot: %s\n", error.c_str());
+            return 1;
+        }
+        jetrace::client::ClientConfig cc;
+        cc.name = b.name;
+        b.client = std::make_unique<jetrace::client::RaceClient>(cc, *scene, *b.transport);
+        bots.push_back(std::move(b));
+    }
+    std::size_t done = 0;
+    while (done < bots.size()) {
+        const std::uint64_t t = now_us();
+        for (Bot& b : bots) {
+            if (b.done) continue;
+            const auto skill = b.skill;
+            b.client->update(t, [&](const jetrace::Scene& sc, const jetrace::WorldState& w, int slot) {
+                return jetrace::drive(sc, w, slot, skill);
+            });
+            const bool finished_races = b.client->races_finished() >= static_cast<std::uint32_t>(races);
+            if (finished_races) b.client->leave("done racing");
+            if (finished_races || b.client->state() == jetrace::client::ClientState::closed) {
+                b.done = true;
+                ++done;
+            }
+        }
+        if (std::chrono::duration<double>(Clock::now() - start).count() > max_seconds) break;
+        std::this_thread::sleep_for(std::chrono::microseconds(500));
+    }
+    // Rates per simulated second (wall time scaled by --time-scale).
+    const double wall_s = std::chrono::duration<double>(Clock::now() - start).count() * time_scale;
+    int failures = 0;
+    for (Bot& b : bots) {
+        const auto& r = b.client->results();
+        int position = 0;
+        bool finished = false;
+        for (std::size_t i = 0; i < r.standings.size(); ++i) {
+            if (r.standings[i].slot == b.client->slot() && r.standings[i].name == b.name) {
+                position = static_cast<int>(i) + 1;
+                finished = r.standings[i].finished;
+            }
+        }
+        failures += finished ? 0 : 1;
+        const auto totals = b.transport->totals();
+        nlohmann::json j;
+        j["name"] = b.name;
+        j["finished"] = finished;
+        j["position"] = position;
+        j["corrections"] = b.client->stats().corrections;
+        j["max_correction_m"] = b.client->stats().max_correction_m;
+        j["snapshots"] = b.client->stats().snapshots;
+        j["rtt_ms"] = b.client->rtt_ms();
+        j["down_bytes_per_s"] = static_cast<double>(totals.bytes_received) / wall_s;
+        j["up_bytes_per_s"] = static_cast<double>(totals.bytes_sent) / wall_s;
+        j["closed"] = b.client->close_reason();
+        std::printf("%s\n", j.dump().c_str());
+    }
+    return failures == 0 ? 0 : 3;
+}

@@ -1,0 +1,146 @@
+// The client library: connects, keeps its clock a little ahead of the
+// server's, predicts its own car with the shared core, reconciles against
+// snapshots, and interpolates the other cars. No rendering: a game (or a
+// bot) reads predicted() and the visual_* functions.
+//
+// The caller owns time: update(now_us) does everything due by then.
+#pragma once
+
+#include "jetrace/net/transport.hpp"
+#include "jetrace/proto/messages.hpp"
+#include "jetrace/proto/world_codec.hpp"
+#include "jetrace/world.hpp"
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace jetrace::client {
+
+struct ClientConfig {
+    std::string name = "player";
+    /// How many ticks early the client aims for its inputs to reach the
+    /// server, on top of the jitter allowance (unit: ticks).
+    double target_margin_ticks = 2.0;
+    /// Jitter allowance: this many RTT standard deviations (unit: 1).
+    double jitter_margin_sigmas = 2.0;
+    /// Largest speed-up or slow-down of the client's tick clock (unit: fraction).
+    double max_clock_adjust = 0.05;
+    /// Delay at which other cars are shown, behind the newest snapshot
+    /// (unit: snapshot intervals).
+    double interpolation_snapshots = 2.0;
+    /// Inputs are sent every this many ticks, each packet carrying every
+    /// input the server has not applied yet (unit: ticks).
+    std::uint32_t input_interval_ticks = 3;
+    /// Fraction of a visible correction removed per tick (unit: 1/tick).
+    double smoothing_per_tick = 0.1;
+};
+
+enum class ClientState : std::uint8_t { connecting, waiting_welcome, in_lobby, racing, closed };
+
+struct ClientStats {
+    /// Snapshots received and decoded.
+    std::uint64_t snapshots = 0;
+    /// Snapshots whose state of the own car differed from the prediction.
+    std::uint64_t corrections = 0;
+    /// Largest position error found by a correction (unit: m).
+    double max_correction_m = 0;
+    /// Snapshots that could not be used (undecodable, baseline missing, stale).
+    std::uint64_t snapshots_dropped = 0;
+    /// Times the clock jumped instead of drifting to the right lead.
+    std::uint64_t clock_resyncs = 0;
+};
+
+/// Gives the input for the client's own car for the next tick.
+using InputSource = std::function<Input(const Scene& scene, const WorldState& predicted, int slot)>;
+
+class RaceClient {
+public:
+    RaceClient(const ClientConfig& config, const Scene& scene, net::Transport& transport);
+
+    /// Handles the network and runs the prediction ticks due by `now_us`.
+    void update(std::uint64_t now_us, const InputSource& input);
+    /// Says goodbye and closes.
+    void leave(const std::string& reason);
+
+    ClientState state() const { return state_; }
+    /// Why the client closed (refusal, goodbye, disconnect, error).
+    const std::string& close_reason() const { return close_reason_; }
+    int slot() const { return slot_; }
+    bool spectating() const { return spectating_; }
+    std::uint32_t race_number() const { return race_number_; }
+    proto::RacePhase phase() const { return phase_; }
+    /// The predicted world at predicted_tick().
+    const WorldState& predicted() const { return predicted_; }
+    std::uint32_t predicted_tick() const { return predicted_.tick; }
+    /// The newest authoritative world from a snapshot.
+    const WorldState& authoritative() const { return latest_.state; }
+    const ClientStats& stats() const { return stats_; }
+    /// The last race's results (race_number 0: none yet).
+    const proto::Results& results() const { return results_; }
+    std::uint32_t races_finished() const { return races_finished_; }
+    double rtt_ms() const;
+
+    /// Where to draw the own car: the prediction plus a correction offset
+    /// that fades out (kept apart from the simulated state).
+    Vec3 visual_own_position() const;
+    /// Where to draw another car: interpolated between the two snapshots
+    /// around (newest snapshot time - interpolation delay).
+    Vec3 visual_position(int slot) const;
+
+private:
+    static constexpr std::size_t kRing = 256;
+
+    void on_event(const net::Event& e);
+    void on_message(const proto::Message& m);
+    void on_snapshot(const proto::Snapshot& s);
+    void reconcile(const proto::WorldSnapshot& snap);
+    void run_tick(const InputSource& input);
+    void send_inputs();
+    void close(const std::string& reason);
+    void adjust_clock(const proto::Snapshot& s);
+
+    ClientConfig config_;
+    const Scene& scene_;
+    net::Transport& transport_;
+    ClientState state_ = ClientState::connecting;
+    std::string close_reason_;
+    int slot_ = -1;
+    bool spectating_ = false;
+    proto::RacePhase phase_ = proto::RacePhase::lobby;
+    std::uint32_t race_number_ = 0;
+    std::uint32_t races_finished_ = 0;
+    proto::Results results_;
+
+    // Clock.
+    std::uint64_t now_us_ = 0;
+    std::uint64_t next_tick_us_ = 0;
+    double tick_us_ = 0;
+    double clock_adjust_ = 0;
+    bool have_world_ = false;
+
+    // Prediction.
+    WorldState predicted_;
+    StepScratch scratch_;
+    std::array<Input, kRing> my_inputs_{};
+    std::array<std::uint32_t, kRing> my_input_ticks_{};
+    std::array<CarState, kRing> my_states_{};  // own car at the start of tick t
+    std::array<std::uint32_t, kRing> my_state_ticks_{};
+    std::vector<Input> step_inputs_;
+    std::uint32_t last_applied_input_tick_ = proto::kNoTick;
+
+    // Snapshots: decoded worlds by tick (baselines), newest and previous.
+    std::array<std::pair<std::uint32_t, proto::WorldSnapshot>, 128> received_{};
+    proto::WorldSnapshot latest_;
+    proto::WorldSnapshot previous_;
+    std::uint64_t latest_at_us_ = 0;
+    std::uint32_t newest_snapshot_tick_ = proto::kNoTick;
+
+    Vec3 visual_offset_{0, 0, 0};
+    ClientStats stats_;
+    std::vector<net::Event> events_;
+};
+
+}  // namespace jetrace::client

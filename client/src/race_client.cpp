@@ -1,0 +1,285 @@
+#include "jetrace/client/race_client.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace jetrace::client {
+
+namespace {
+constexpr std::uint64_t kMaxCatchUp_us = 250000;
+}  // namespace
+
+RaceClient::RaceClient(const ClientConfig& config, const Scene& scene, net::Transport& transport)
+    : config_(config), scene_(scene), transport_(transport) {
+    tick_us_ = 1e6 / scene.physics.tick_rate_hz;
+    my_input_ticks_.fill(proto::kNoTick);
+    my_state_ticks_.fill(proto::kNoTick);
+    for (auto& r : received_) r.first = proto::kNoTick;
+}
+
+double RaceClient::rtt_ms() const { return transport_.peer_stats(0).rtt_ms; }
+
+void RaceClient::close(const std::string& reason) {
+    if (state_ == ClientState::closed) return;
+    state_ = ClientState::closed;
+    close_reason_ = reason;
+    spdlog::info("{}: closed: {}", config_.name, reason);
+}
+
+void RaceClient::leave(const std::string& reason) {
+    if (state_ == ClientState::closed) return;
+    transport_.send(0, net::Channel::reliable, proto::encode(proto::Goodbye{reason}));
+    transport_.disconnect(0);
+    transport_.flush();
+    close(reason);
+}
+
+void RaceClient::on_event(const net::Event& e) {
+    switch (e.type) {
+        case net::Event::Type::connected: {
+            proto::Hello h;
+            h.name = config_.name;
+            transport_.send(0, net::Channel::reliable, proto::encode(h));
+            state_ = ClientState::waiting_welcome;
+            break;
+        }
+        case net::Event::Type::disconnected: close(close_reason_.empty() ? "disconnected" : close_reason_); break;
+        case net::Event::Type::received: {
+            proto::Message m;
+            std::string error;
+            if (!proto::decode(e.data, m, error)) {
+                spdlog::warn("{}: ignoring a malformed message from the server: {}", config_.name, error);
+                return;
+            }
+            on_message(m);
+            break;
+        }
+    }
+}
+
+void RaceClient::on_message(const proto::Message& m) {
+    if (const auto* w = std::get_if<proto::Welcome>(&m)) {
+        if (w->track_identity != scene_.track.identity()) {
+            leave("track mismatch: the server races on '" + w->track_name + "', which differs from ours");
+        } else if (w->physics_hash != proto::physics_hash(scene_.physics) ||
+                   w->tick_rate_hz != scene_.physics.tick_rate_hz) {
+            leave("physics settings differ from the server's");
+        } else {
+            slot_ = w->slot;
+            state_ = ClientState::in_lobby;
+            spdlog::info("{}: welcome, slot {}", config_.name, slot_);
+        }
+    } else if (const auto* r = std::get_if<proto::Refuse>(&m)) {
+        close("refused: " + r->reason);
+    } else if (const auto* g = std::get_if<proto::Goodbye>(&m)) {
+        close_reason_ = "server: " + g->reason;
+    } else if (const auto* s = std::get_if<proto::RaceStatus>(&m)) {
+        phase_ = s->phase;
+        for (const auto& p : s->players) {
+            if (p.slot == slot_) spectating_ = p.spectating;
+        }
+    } else if (const auto* res = std::get_if<proto::Results>(&m)) {
+        if (res->race_number != results_.race_number) ++races_finished_;
+        results_ = *res;
+    } else if (const auto* snap = std::get_if<proto::Snapshot>(&m)) {
+        on_snapshot(*snap);
+    }
+}
+
+void RaceClient::on_snapshot(const proto::Snapshot& s) {
+    if (slot_ < 0) return;
+    if (s.race_number < race_number_) return;  // from a finished race
+    if (s.race_number > race_number_) {
+        race_number_ = s.race_number;
+        for (auto& r : received_) r.first = proto::kNoTick;
+        newest_snapshot_tick_ = proto::kNoTick;
+        have_world_ = false;
+    }
+    const proto::WorldSnapshot* base = nullptr;
+    if (s.baseline_tick != proto::kNoTick) {
+        const auto& r = received_[s.baseline_tick % received_.size()];
+        if (r.first != s.baseline_tick) {
+            ++stats_.snapshots_dropped;
+            return;
+        }
+        base = &r.second;
+    }
+    proto::WorldSnapshot snap;
+    std::string error;
+    if (!proto::decode_world(s.world, base, snap, error) || snap.state.tick != s.server_tick ||
+        snap.state.cars.size() <= static_cast<std::size_t>(slot_)) {
+        ++stats_.snapshots_dropped;
+        spdlog::debug("{}: dropped snapshot {}: {}", config_.name, s.server_tick, error);
+        return;
+    }
+    ++stats_.snapshots;
+    phase_ = s.phase;
+    received_[s.server_tick % received_.size()] = {s.server_tick, snap};
+    if (newest_snapshot_tick_ != proto::kNoTick && s.server_tick <= newest_snapshot_tick_) return;  // reordered
+    newest_snapshot_tick_ = s.server_tick;
+    if (s.last_applied_input_tick != proto::kNoTick) last_applied_input_tick_ = s.last_applied_input_tick;
+    previous_ = latest_;
+    latest_ = snap;
+    latest_at_us_ = now_us_;
+    if (!have_world_) {
+        // Join the race: start from the server's state and run ahead by the
+        // estimated lead, which update() catches up right away.
+        predicted_ = snap.state;
+        have_world_ = true;
+        const double lead = rtt_ms() * 1000.0 / tick_us_ + config_.target_margin_ticks + 2.0;
+        next_tick_us_ = now_us_ - static_cast<std::uint64_t>(std::min(lead, 60.0) * tick_us_);
+        state_ = ClientState::racing;
+        return;
+    }
+    reconcile(snap);
+    adjust_clock(s);
+}
+
+void RaceClient::reconcile(const proto::WorldSnapshot& snap) {
+    const std::uint32_t S = snap.state.tick;
+    const auto own = static_cast<std::size_t>(slot_);
+    if (S >= predicted_.tick) {
+        // Behind the server: take its state and let the clock catch up.
+        predicted_ = snap.state;
+        ++stats_.clock_resyncs;
+        next_tick_us_ = now_us_;
+        return;
+    }
+    if (my_state_ticks_[S % kRing] == S && !spectating_ && snap.state.cars[own].active) {
+        const CarState& mine = my_states_[S % kRing];
+        if (car_hash(mine) != car_hash(snap.state.cars[own])) {
+            ++stats_.corrections;
+            stats_.max_correction_m =
+                std::max(stats_.max_correction_m, (mine.position - snap.state.cars[own].position).norm());
+            double nearest = 1e9;
+            for (std::size_t s = 0; s < snap.state.cars.size(); ++s) {
+                if (s != own && snap.state.cars[s].active)
+                    nearest = std::min(nearest, (snap.state.cars[s].position - snap.state.cars[own].position).norm());
+            }
+            spdlog::debug("{}: correction at tick {}: error {:.4f} m, nearest car {:.1f} m, last applied input {}, "
+                          "predicted tick {}",
+                          config_.name, S, (mine.position - snap.state.cars[own].position).norm(), nearest,
+                          last_applied_input_tick_, predicted_.tick);
+        }
+    }
+    // Restore the server's state and replay the ticks since with our own
+    // inputs and the others' last known ones.
+    const Vec3 before = predicted_.cars[own].position;
+    const std::uint32_t target = predicted_.tick;
+    WorldState w = snap.state;
+    step_inputs_.assign(w.cars.size(), Input{});
+    for (std::uint32_t t = S; t < target; ++t) {
+        for (std::size_t s = 0; s < w.cars.size(); ++s) {
+            step_inputs_[s] = s < snap.last_inputs.size() ? snap.last_inputs[s] : Input{};
+        }
+        if (my_input_ticks_[t % kRing] == t) step_inputs_[own] = my_inputs_[t % kRing];
+        my_states_[t % kRing] = w.cars[own];
+        my_state_ticks_[t % kRing] = t;
+        step(scene_, w, step_inputs_, scratch_);
+    }
+    predicted_ = std::move(w);
+    visual_offset_ += before - predicted_.cars[own].position;
+}
+
+void RaceClient::adjust_clock(const proto::Snapshot& s) {
+    if (s.phase != proto::RacePhase::countdown && s.phase != proto::RacePhase::racing) return;
+    if (s.input_margin_ticks == -32768) return;  // no input received yet
+    const double sigma_ticks = transport_.peer_stats(0).rtt_variance_ms * 1000.0 / tick_us_;
+    const double target = config_.target_margin_ticks + config_.jitter_margin_sigmas * sigma_ticks;
+    const double error = s.input_margin_ticks - target;
+    if (error < -6.0) {
+        // Inputs arrive late: jump ahead rather than drift.
+        next_tick_us_ -= static_cast<std::uint64_t>(-error * tick_us_);
+        ++stats_.clock_resyncs;
+        clock_adjust_ = 0;
+        return;
+    }
+    clock_adjust_ = std::clamp(0.01 * error, -config_.max_clock_adjust, config_.max_clock_adjust);
+}
+
+void RaceClient::run_tick(const InputSource& input) {
+    const std::uint32_t t = predicted_.tick;
+    const auto own = static_cast<std::size_t>(slot_);
+    Input mine{};
+    if (!spectating_ && predicted_.cars[own].active && input) mine = input(scene_, predicted_, slot_);
+    my_inputs_[t % kRing] = mine;
+    my_input_ticks_[t % kRing] = t;
+    my_states_[t % kRing] = predicted_.cars[own];
+    my_state_ticks_[t % kRing] = t;
+    step_inputs_.assign(predicted_.cars.size(), Input{});
+    for (std::size_t s = 0; s < predicted_.cars.size(); ++s) {
+        if (s < latest_.last_inputs.size()) step_inputs_[s] = latest_.last_inputs[s];
+    }
+    step_inputs_[own] = mine;
+    step(scene_, predicted_, step_inputs_, scratch_);
+    visual_offset_ *= 1.0 - config_.smoothing_per_tick;
+}
+
+void RaceClient::send_inputs() {
+    if (spectating_ || slot_ < 0) return;
+    const std::uint32_t end = predicted_.tick;  // inputs for ticks < end exist
+    std::uint32_t first = last_applied_input_tick_ == proto::kNoTick ? 0 : last_applied_input_tick_ + 1;
+    if (end > proto::kMaxInputsPerBatch && first < end - static_cast<std::uint32_t>(proto::kMaxInputsPerBatch)) {
+        first = end - static_cast<std::uint32_t>(proto::kMaxInputsPerBatch);
+    }
+    proto::InputBatch b;
+    b.ack_snapshot_tick = newest_snapshot_tick_;
+    for (std::uint32_t t = first; t < end; ++t) {
+        if (my_input_ticks_[t % kRing] != t) {
+            b.inputs.clear();
+            first = t + 1;
+            continue;
+        }
+        b.inputs.push_back(my_inputs_[t % kRing]);
+    }
+    if (b.inputs.empty()) return;
+    b.first_tick = first;
+    transport_.send(0, net::Channel::unreliable, proto::encode(b));
+}
+
+void RaceClient::update(std::uint64_t now_us, const InputSource& input) {
+    now_us_ = now_us;
+    events_.clear();
+    transport_.service(now_us / 1000, events_);
+    for (const net::Event& e : events_) on_event(e);
+    if (state_ == ClientState::closed || !have_world_ || slot_ < 0) {
+        transport_.flush();
+        return;
+    }
+    if (now_us > next_tick_us_ + kMaxCatchUp_us) next_tick_us_ = now_us - kMaxCatchUp_us;
+    int ran = 0;
+    const double step_us = tick_us_ * (1.0 + clock_adjust_);
+    while (now_us >= next_tick_us_) {
+        run_tick(input);
+        next_tick_us_ += static_cast<std::uint64_t>(step_us);
+        ++ran;
+    }
+    // Inputs go out at most every `input_interval` ticks, with every input
+    // the server has not yet applied (redundancy against loss).
+    if (ran > 0 && (predicted_.tick % config_.input_interval_ticks == 0 || ran > 1)) send_inputs();
+    transport_.flush();
+}
+
+Vec3 RaceClient::visual_own_position() const {
+    if (slot_ < 0 || !have_world_) return Vec3::Zero();
+    return predicted_.cars[static_cast<std::size_t>(slot_)].position + visual_offset_;
+}
+
+Vec3 RaceClient::visual_position(int slot) const {
+    const auto s = static_cast<std::size_t>(slot);
+    if (s >= latest_.state.cars.size()) return Vec3::Zero();
+    const Vec3 b = latest_.state.cars[s].position;
+    if (s >= previous_.state.cars.size() || previous_.state.tick >= latest_.state.tick) return b;
+    // Show the car `interpolation_snapshots` intervals behind the newest
+    // snapshot: between the previous and the newest, extrapolating no further.
+    const double span = latest_.state.tick - previous_.state.tick;
+    const double behind = config_.interpolation_snapshots - 1.0;
+    const double f = std::clamp(1.0 - behind, 0.0, 1.0);
+    (void)span;
+    const Vec3 a = previous_.state.cars[s].position;
+    return a + (b - a) * f;
+}
+
+}  // namespace jetrace::client

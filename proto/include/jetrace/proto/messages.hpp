@@ -1,0 +1,140 @@
+// Every message of the jetrace protocol as a plain C++ value, and its
+// encoding to and from bytes (flatbuffers, schema in proto/jetrace.fbs).
+// Decoding verifies the buffer and range-checks every field: bytes from the
+// network are untrusted, a bad message is an error string, never a crash.
+// docs/PROTOCOL.md describes the wire format, channels and state machine.
+#pragma once
+
+#include "jetrace/hovercar.hpp"
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace jetrace::proto {
+
+inline constexpr std::uint16_t kProtocolVersion = 1;
+/// Larger datagrams are rejected before parsing (unit: bytes).
+inline constexpr std::size_t kMaxMessageBytes = 8192;
+/// Most inputs one InputBatch may carry.
+inline constexpr std::size_t kMaxInputsPerBatch = 64;
+/// Longest player name (unit: bytes of UTF-8); longer names are refused.
+inline constexpr std::size_t kMaxNameBytes = 32;
+/// Longest refusal/goodbye reason (unit: bytes).
+inline constexpr std::size_t kMaxReasonBytes = 256;
+/// Most players a server hosts (slots are 0..kMaxSlots-1).
+inline constexpr int kMaxSlots = 64;
+/// Length of the reconnect token in Welcome/Hello (unit: bytes).
+inline constexpr std::size_t kTokenBytes = 16;
+/// "No baseline": the snapshot is encoded against nothing.
+inline constexpr std::uint32_t kNoTick = 0xFFFFFFFFu;
+
+enum class RacePhase : std::uint8_t { lobby = 0, countdown = 1, racing = 2, finished = 3 };
+const char* to_string(RacePhase p);
+
+/// Client -> server, reliable, first message.
+struct Hello {
+    std::uint16_t protocol_version = kProtocolVersion;
+    std::string name;
+    /// Empty, or the token of an earlier Welcome to take back a car after a drop.
+    std::vector<std::uint8_t> reconnect_token;
+};
+
+/// Server -> client, reliable: accepted.
+struct Welcome {
+    std::uint16_t protocol_version = kProtocolVersion;
+    std::uint8_t slot = 0;
+    std::uint8_t max_players = 0;
+    std::uint16_t tick_rate_hz = 120;
+    std::uint16_t snapshot_rate_hz = 60;
+    std::string track_name;
+    std::uint64_t track_identity = 0;
+    /// physics_hash(PhysicsSettings) of the server: the client must match it.
+    std::uint64_t physics_hash = 0;
+    std::uint32_t server_tick = 0;
+    std::vector<std::uint8_t> reconnect_token;  // kTokenBytes
+};
+
+/// Server -> client, reliable: not accepted (then disconnected).
+struct Refuse {
+    std::string reason;
+};
+
+/// Client -> server, unreliable: the client's inputs for ticks first_tick,
+/// first_tick+1, ... (every input not yet acknowledged: redundancy).
+struct InputBatch {
+    std::uint32_t first_tick = 0;
+    std::vector<Input> inputs;
+    /// Newest snapshot tick the client has received (kNoTick: none yet).
+    std::uint32_t ack_snapshot_tick = kNoTick;
+};
+
+/// Server -> client, unreliable.
+struct Snapshot {
+    std::uint32_t server_tick = 0;
+    /// The snapshot the payload is encoded against (kNoTick: none).
+    std::uint32_t baseline_tick = kNoTick;
+    /// Newest input tick of this client that the server has applied (kNoTick: none).
+    std::uint32_t last_applied_input_tick = kNoTick;
+    /// How many ticks ahead of the server tick this client's newest input
+    /// arrived (negative: late). The client speeds up or slows down to keep
+    /// it near its target.
+    std::int16_t input_margin_ticks = 0;
+    RacePhase phase = RacePhase::lobby;
+    std::uint32_t race_number = 0;
+    /// encode_world() bytes.
+    std::vector<std::uint8_t> world;
+};
+
+struct PlayerInfo {
+    std::uint8_t slot = 0;
+    std::string name;
+    /// Joined mid-race: watching until the next race.
+    bool spectating = false;
+};
+
+/// Server -> client, reliable, whenever the race phase or the roster changes.
+struct RaceStatus {
+    RacePhase phase = RacePhase::lobby;
+    std::uint32_t race_number = 0;
+    std::uint32_t start_tick = 0;
+    std::uint16_t laps = 1;
+    std::vector<PlayerInfo> players;
+};
+
+struct StandingEntry {
+    std::uint8_t slot = 0;
+    std::string name;
+    bool finished = false;
+    std::uint16_t lap = 0;
+    /// Race time at the finish (unit: s); 0 if not finished.
+    double finish_time_s = 0;
+};
+
+/// Server -> client, reliable, at the end of each race.
+struct Results {
+    std::uint32_t race_number = 0;
+    std::vector<StandingEntry> standings;
+    std::uint64_t state_hash = 0;
+};
+
+/// Either direction, reliable: leaving, with a reason.
+struct Goodbye {
+    std::string reason;
+};
+
+using Message = std::variant<Hello, Welcome, Refuse, InputBatch, Snapshot, RaceStatus, Results, Goodbye>;
+
+/// Serialises a message. Asserts on programmer errors (fields out of range).
+std::vector<std::uint8_t> encode(const Message& m);
+
+/// Parses and verifies untrusted bytes. False with a reason on anything
+/// malformed, truncated, oversized, too deeply nested or out of range.
+bool decode(std::span<const std::uint8_t> bytes, Message& out, std::string& error);
+
+/// Hash of the settings that must match between server and client.
+std::uint64_t physics_hash(const PhysicsSettings& s);
+
+}  // namespace jetrace::proto

@@ -1,0 +1,425 @@
+// Messages <-> flatbuffers (schema: proto/jetrace.fbs). The rules decode()
+// enforces are listed in docs/PROTOCOL.md, section "Validation"; encode()
+// asserts the same rules, so whatever it produces decodes.
+#include "jetrace/proto/messages.hpp"
+
+#include "jetrace_generated.h"
+
+#include <bit>
+#include <cassert>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <type_traits>
+
+namespace jetrace::proto {
+
+namespace {
+
+namespace fb = flatbuffers;
+namespace w = jetrace::wire;
+
+/// Longest track name in Welcome (unit: bytes of UTF-8).
+constexpr std::size_t kMaxTrackNameBytes = 256;
+constexpr int kMaxRateHz = 10000;
+constexpr int kMaxInputBits = 10;
+
+/// Valid UTF-8 (no overlong forms, surrogates or code points above
+/// U+10FFFF) without control characters (C0, DEL, C1).
+bool clean_utf8(std::string_view s) {
+    std::size_t i = 0;
+    while (i < s.size()) {
+        const auto c = static_cast<unsigned char>(s[i]);
+        std::uint32_t cp = 0;
+        int more = 0;
+        if (c < 0x80) {
+            cp = c;
+        } else if (c >= 0xC2 && c <= 0xDF) {
+            cp = c & 0x1Fu;
+            more = 1;
+        } else if (c >= 0xE0 && c <= 0xEF) {
+            cp = c & 0x0Fu;
+            more = 2;
+        } else if (c >= 0xF0 && c <= 0xF4) {
+            cp = c & 0x07u;
+            more = 3;
+        } else {
+            return false;
+        }
+        if (s.size() - i - 1 < static_cast<std::size_t>(more)) return false;
+        for (int k = 1; k <= more; ++k) {
+            const auto cc = static_cast<unsigned char>(s[i + static_cast<std::size_t>(k)]);
+            if ((cc & 0xC0u) != 0x80u) return false;
+            cp = (cp << 6) | (cc & 0x3Fu);
+        }
+        if ((more == 2 && cp < 0x800) || (more == 3 && (cp < 0x10000 || cp > 0x10FFFF))) return false;  // overlong
+        if (cp >= 0xD800 && cp <= 0xDFFF) return false;  // surrogate
+        if (cp < 0x20 || (cp >= 0x7F && cp <= 0x9F)) return false;  // control
+        i += 1 + static_cast<std::size_t>(more);
+    }
+    return true;
+}
+
+/// Collects the first error and names its field.
+class Check {
+public:
+    explicit Check(std::string& error) : error_(error) {}
+    bool fail(const std::string& field, const char* what) {
+        error_ = field + ": " + what;
+        return false;
+    }
+    /// A required string: at most `max` bytes of clean UTF-8.
+    bool text(const fb::String* s, std::size_t max, const std::string& field, std::string& out) {
+        if (!s) return fail(field, "missing");
+        if (s->size() > max) return fail(field, "too long");
+        const std::string_view v(s->c_str(), s->size());
+        if (!clean_utf8(v)) return fail(field, "not UTF-8 text (bad encoding or control characters)");
+        out.assign(v);
+        return true;
+    }
+    /// An optional token: absent/empty or exactly kTokenBytes.
+    bool token(const fb::Vector<std::uint8_t>* t, const std::string& field, std::vector<std::uint8_t>& out) {
+        out.clear();
+        if (!t || t->size() == 0) return true;
+        if (t->size() != kTokenBytes) return fail(field, "must be empty or kTokenBytes long");
+        out.assign(t->begin(), t->end());
+        return true;
+    }
+    bool phase(w::RacePhase p, const std::string& field, RacePhase& out) {
+        if (static_cast<unsigned>(p) > static_cast<unsigned>(w::RacePhase_MAX)) return fail(field, "unknown phase");
+        out = static_cast<RacePhase>(p);
+        return true;
+    }
+    /// A bool field stored as one byte: only 0 or 1.
+    template <typename T>
+    bool flag(const T* t, fb::voffset_t vt, const std::string& field, bool& out) {
+        // Generated tables inherit flatbuffers::Table privately; they are one.
+        const auto raw = reinterpret_cast<const fb::Table*>(t)->GetField<std::uint8_t>(vt, 0);
+        if (raw > 1) return fail(field, "not a bool");
+        out = raw != 0;
+        return true;
+    }
+    /// A slot index below kMaxSlots, not seen before in this list.
+    bool slot(std::uint8_t s, std::uint64_t& seen, const std::string& field) {
+        if (s >= kMaxSlots) return fail(field, "out of range");
+        const std::uint64_t bit = std::uint64_t{1} << s;
+        if (seen & bit) return fail(field, "listed twice");
+        seen |= bit;
+        return true;
+    }
+
+private:
+    std::string& error_;
+};
+
+// ---------------------------------------------------------------- encode
+
+void assert_text(const std::string& s, std::size_t max) {
+    assert(s.size() <= max && clean_utf8(s) && "encode: text too long or not clean UTF-8");
+    (void)s;
+    (void)max;
+}
+
+fb::Offset<fb::Vector<std::uint8_t>> token(fb::FlatBufferBuilder& b, const std::vector<std::uint8_t>& t) {
+    assert((t.empty() || t.size() == kTokenBytes) && "encode: bad token length");
+    return t.empty() ? 0 : b.CreateVector(t);
+}
+
+struct Encoder {
+    fb::FlatBufferBuilder& b;
+
+    std::pair<w::Body, fb::Offset<void>> operator()(const Hello& m) const {
+        assert_text(m.name, kMaxNameBytes);
+        const auto name = b.CreateString(m.name);
+        const auto tok = token(b, m.reconnect_token);
+        return {w::Body_Hello, w::CreateHello(b, m.protocol_version, name, tok).Union()};
+    }
+    std::pair<w::Body, fb::Offset<void>> operator()(const Welcome& m) const {
+        assert(m.max_players >= 1 && m.max_players <= kMaxSlots && m.slot < m.max_players);
+        assert(m.tick_rate_hz >= 1 && m.tick_rate_hz <= kMaxRateHz);
+        assert(m.snapshot_rate_hz >= 1 && m.snapshot_rate_hz <= kMaxRateHz);
+        assert_text(m.track_name, kMaxTrackNameBytes);
+        const auto track = b.CreateString(m.track_name);
+        const auto tok = token(b, m.reconnect_token);
+        return {w::Body_Welcome, w::CreateWelcome(b, m.protocol_version, m.slot, m.max_players, m.tick_rate_hz,
+                                                  m.snapshot_rate_hz, track, m.track_identity, m.physics_hash,
+                                                  m.server_tick, tok)
+                                     .Union()};
+    }
+    std::pair<w::Body, fb::Offset<void>> operator()(const Refuse& m) const {
+        assert_text(m.reason, kMaxReasonBytes);
+        return {w::Body_Refuse, w::CreateRefuse(b, b.CreateString(m.reason)).Union()};
+    }
+    std::pair<w::Body, fb::Offset<void>> operator()(const InputBatch& m) const {
+        assert(!m.inputs.empty() && m.inputs.size() <= kMaxInputsPerBatch);
+        assert(m.inputs.size() - 1 <= std::uint64_t{0xFFFFFFFFu} - m.first_tick);
+        std::vector<std::uint16_t> packed;
+        packed.reserve(m.inputs.size());
+        for (const Input& in : m.inputs) packed.push_back(in.pack());
+        const auto inputs = b.CreateVector(packed);
+        return {w::Body_InputBatch, w::CreateInputBatch(b, m.first_tick, inputs, m.ack_snapshot_tick).Union()};
+    }
+    std::pair<w::Body, fb::Offset<void>> operator()(const Snapshot& m) const {
+        assert(!m.world.empty() && m.world.size() <= kMaxMessageBytes);
+        assert(m.baseline_tick == kNoTick || m.baseline_tick <= m.server_tick);
+        const auto world = b.CreateVector(m.world);
+        return {w::Body_Snapshot,
+                w::CreateSnapshot(b, m.server_tick, m.baseline_tick, m.last_applied_input_tick, m.input_margin_ticks,
+                                  static_cast<w::RacePhase>(m.phase), m.race_number, world)
+                    .Union()};
+    }
+    std::pair<w::Body, fb::Offset<void>> operator()(const RaceStatus& m) const {
+        assert(m.players.size() <= static_cast<std::size_t>(kMaxSlots) && m.laps >= 1);
+        std::vector<fb::Offset<w::PlayerInfo>> players;
+        for (const PlayerInfo& p : m.players) {
+            assert(p.slot < kMaxSlots);
+            assert_text(p.name, kMaxNameBytes);
+            players.push_back(w::CreatePlayerInfo(b, p.slot, b.CreateString(p.name), p.spectating));
+        }
+        const auto list = b.CreateVector(players);
+        return {w::Body_RaceStatus, w::CreateRaceStatus(b, static_cast<w::RacePhase>(m.phase), m.race_number,
+                                                        m.start_tick, m.laps, list)
+                                        .Union()};
+    }
+    std::pair<w::Body, fb::Offset<void>> operator()(const Results& m) const {
+        assert(m.standings.size() <= static_cast<std::size_t>(kMaxSlots));
+        std::vector<fb::Offset<w::StandingEntry>> standings;
+        for (const StandingEntry& e : m.standings) {
+            assert(e.slot < kMaxSlots && std::isfinite(e.finish_time_s) && e.finish_time_s >= 0);
+            assert_text(e.name, kMaxNameBytes);
+            standings.push_back(
+                w::CreateStandingEntry(b, e.slot, b.CreateString(e.name), e.finished, e.lap, e.finish_time_s));
+        }
+        const auto list = b.CreateVector(standings);
+        return {w::Body_Results, w::CreateResults(b, m.race_number, list, m.state_hash).Union()};
+    }
+    std::pair<w::Body, fb::Offset<void>> operator()(const Goodbye& m) const {
+        assert_text(m.reason, kMaxReasonBytes);
+        return {w::Body_Goodbye, w::CreateGoodbye(b, b.CreateString(m.reason)).Union()};
+    }
+};
+
+// ---------------------------------------------------------------- decode
+
+bool decode_body(const w::Hello& t, Message& out, Check& c) {
+    Hello m;
+    m.protocol_version = t.protocol_version();
+    if (!c.text(t.name(), kMaxNameBytes, "Hello.name", m.name)) return false;
+    if (!c.token(t.reconnect_token(), "Hello.reconnect_token", m.reconnect_token)) return false;
+    out = std::move(m);
+    return true;
+}
+
+bool decode_body(const w::Welcome& t, Message& out, Check& c) {
+    Welcome m;
+    m.protocol_version = t.protocol_version();
+    m.max_players = t.max_players();
+    if (m.max_players < 1 || m.max_players > kMaxSlots) return c.fail("Welcome.max_players", "out of range");
+    m.slot = t.slot();
+    if (m.slot >= m.max_players) return c.fail("Welcome.slot", "not below max_players");
+    m.tick_rate_hz = t.tick_rate_hz();
+    if (m.tick_rate_hz < 1 || m.tick_rate_hz > kMaxRateHz) return c.fail("Welcome.tick_rate_hz", "out of range");
+    m.snapshot_rate_hz = t.snapshot_rate_hz();
+    if (m.snapshot_rate_hz < 1 || m.snapshot_rate_hz > kMaxRateHz)
+        return c.fail("Welcome.snapshot_rate_hz", "out of range");
+    if (!c.text(t.track_name(), kMaxTrackNameBytes, "Welcome.track_name", m.track_name)) return false;
+    m.track_identity = t.track_identity();
+    m.physics_hash = t.physics_hash();
+    m.server_tick = t.server_tick();
+    if (!c.token(t.reconnect_token(), "Welcome.reconnect_token", m.reconnect_token)) return false;
+    out = std::move(m);
+    return true;
+}
+
+bool decode_body(const w::Refuse& t, Message& out, Check& c) {
+    Refuse m;
+    if (!c.text(t.reason(), kMaxReasonBytes, "Refuse.reason", m.reason)) return false;
+    out = std::move(m);
+    return true;
+}
+
+bool decode_body(const w::InputBatch& t, Message& out, Check& c) {
+    InputBatch m;
+    m.first_tick = t.first_tick();
+    m.ack_snapshot_tick = t.ack_snapshot_tick();
+    const auto* inputs = t.inputs();
+    if (!inputs) return c.fail("InputBatch.inputs", "missing");
+    if (inputs->size() == 0) return c.fail("InputBatch.inputs", "empty");
+    if (inputs->size() > kMaxInputsPerBatch) return c.fail("InputBatch.inputs", "more than kMaxInputsPerBatch");
+    if (inputs->size() - 1 > 0xFFFFFFFFu - m.first_tick) return c.fail("InputBatch.first_tick", "last tick overflows");
+    m.inputs.reserve(inputs->size());
+    for (const std::uint16_t v : *inputs) {
+        if (v >= (1u << kMaxInputBits)) return c.fail("InputBatch.inputs", "value wider than 10 bits");
+        m.inputs.push_back(Input::unpack(v));
+    }
+    out = std::move(m);
+    return true;
+}
+
+bool decode_body(const w::Snapshot& t, Message& out, Check& c) {
+    Snapshot m;
+    m.server_tick = t.server_tick();
+    m.baseline_tick = t.baseline_tick();
+    if (m.baseline_tick != kNoTick && m.baseline_tick > m.server_tick)
+        return c.fail("Snapshot.baseline_tick", "newer than server_tick");
+    m.last_applied_input_tick = t.last_applied_input_tick();
+    m.input_margin_ticks = t.input_margin_ticks();
+    if (!c.phase(t.phase(), "Snapshot.phase", m.phase)) return false;
+    m.race_number = t.race_number();
+    const auto* world = t.world();
+    if (!world) return c.fail("Snapshot.world", "missing");
+    if (world->size() == 0) return c.fail("Snapshot.world", "empty");
+    if (world->size() > kMaxMessageBytes) return c.fail("Snapshot.world", "too long");
+    m.world.assign(world->begin(), world->end());
+    out = std::move(m);
+    return true;
+}
+
+bool decode_body(const w::RaceStatus& t, Message& out, Check& c) {
+    RaceStatus m;
+    if (!c.phase(t.phase(), "RaceStatus.phase", m.phase)) return false;
+    m.race_number = t.race_number();
+    m.start_tick = t.start_tick();
+    m.laps = t.laps();
+    if (m.laps < 1) return c.fail("RaceStatus.laps", "zero");
+    const auto* players = t.players();
+    if (!players) return c.fail("RaceStatus.players", "missing");
+    if (players->size() > static_cast<fb::uoffset_t>(kMaxSlots)) return c.fail("RaceStatus.players", "too many");
+    std::uint64_t seen = 0;
+    for (fb::uoffset_t i = 0; i < players->size(); ++i) {
+        const w::PlayerInfo* p = players->Get(i);
+        const std::string field = "RaceStatus.players[" + std::to_string(i) + "]";
+        if (!p) return c.fail(field, "missing");
+        PlayerInfo info;
+        info.slot = p->slot();
+        if (!c.slot(info.slot, seen, field + ".slot")) return false;
+        if (!c.text(p->name(), kMaxNameBytes, field + ".name", info.name)) return false;
+        if (!c.flag(p, w::PlayerInfo::VT_SPECTATING, field + ".spectating", info.spectating)) return false;
+        m.players.push_back(std::move(info));
+    }
+    out = std::move(m);
+    return true;
+}
+
+bool decode_body(const w::Results& t, Message& out, Check& c) {
+    Results m;
+    m.race_number = t.race_number();
+    m.state_hash = t.state_hash();
+    const auto* standings = t.standings();
+    if (!standings) return c.fail("Results.standings", "missing");
+    if (standings->size() > static_cast<fb::uoffset_t>(kMaxSlots)) return c.fail("Results.standings", "too many");
+    std::uint64_t seen = 0;
+    for (fb::uoffset_t i = 0; i < standings->size(); ++i) {
+        const w::StandingEntry* e = standings->Get(i);
+        const std::string field = "Results.standings[" + std::to_string(i) + "]";
+        if (!e) return c.fail(field, "missing");
+        StandingEntry s;
+        s.slot = e->slot();
+        if (!c.slot(s.slot, seen, field + ".slot")) return false;
+        if (!c.text(e->name(), kMaxNameBytes, field + ".name", s.name)) return false;
+        if (!c.flag(e, w::StandingEntry::VT_FINISHED, field + ".finished", s.finished)) return false;
+        s.lap = e->lap();
+        s.finish_time_s = e->finish_time_s();
+        if (!(std::isfinite(s.finish_time_s) && s.finish_time_s >= 0))
+            return c.fail(field + ".finish_time_s", "not a finite time >= 0");
+        m.standings.push_back(std::move(s));
+    }
+    out = std::move(m);
+    return true;
+}
+
+bool decode_body(const w::Goodbye& t, Message& out, Check& c) {
+    Goodbye m;
+    if (!c.text(t.reason(), kMaxReasonBytes, "Goodbye.reason", m.reason)) return false;
+    out = std::move(m);
+    return true;
+}
+
+template <typename T>
+bool decode_as(const w::Envelope& env, Message& out, Check& c) {
+    const T* body = env.body_as<T>();
+    if (!body) return c.fail("Envelope.body", "missing");
+    return decode_body(*body, out, c);
+}
+
+}  // namespace
+
+const char* to_string(RacePhase p) {
+    switch (p) {
+        case RacePhase::lobby: return "lobby";
+        case RacePhase::countdown: return "countdown";
+        case RacePhase::racing: return "racing";
+        case RacePhase::finished: return "finished";
+    }
+    return "unknown";
+}
+
+std::vector<std::uint8_t> encode(const Message& m) {
+    fb::FlatBufferBuilder b(256);
+    const auto [type, body] = std::visit(Encoder{b}, m);
+    w::FinishEnvelopeBuffer(b, w::CreateEnvelope(b, type, body));
+    const std::uint8_t* p = b.GetBufferPointer();
+    std::vector<std::uint8_t> out(p, p + b.GetSize());
+    assert(out.size() <= kMaxMessageBytes && "encode: message too large");
+    return out;
+}
+
+bool decode(std::span<const std::uint8_t> bytes, Message& out, std::string& error) {
+    if (bytes.empty()) {
+        error = "message: empty";
+        return false;
+    }
+    if (bytes.size() > kMaxMessageBytes) {
+        error = "message: larger than kMaxMessageBytes";
+        return false;
+    }
+    // Every finished flatbuffer is a whole number of 4-byte words (the
+    // builder aligns to its largest scalar, at least the 4-byte offsets): this
+    // also catches truncations that only cut padding after a string.
+    if (bytes.size() % 4 != 0) {
+        error = "message: length not a multiple of 4 (truncated?)";
+        return false;
+    }
+    // flatbuffers reads scalars in place: they must be aligned in memory.
+    std::vector<std::uint64_t> aligned;
+    const std::uint8_t* data = bytes.data();
+    if (reinterpret_cast<std::uintptr_t>(data) % alignof(std::uint64_t) != 0) {
+        aligned.resize((bytes.size() + 7) / 8);
+        std::memcpy(aligned.data(), bytes.data(), bytes.size());
+        data = reinterpret_cast<const std::uint8_t*>(aligned.data());
+    }
+    if (bytes.size() < 8 || !w::EnvelopeBufferHasIdentifier(data)) {
+        error = "message: wrong file identifier (not JTR1)";
+        return false;
+    }
+    fb::Verifier::Options opts;
+    opts.max_depth = 8;
+    opts.max_tables = 256;
+    opts.check_alignment = true;
+    fb::Verifier verifier(data, bytes.size(), opts);
+    if (!w::VerifyEnvelopeBuffer(verifier)) {
+        error = "message: malformed flatbuffer (verification failed)";
+        return false;
+    }
+    const w::Envelope* env = w::GetEnvelope(data);
+    Check c(error);
+    switch (env->body_type()) {
+        case w::Body_Hello: return decode_as<w::Hello>(*env, out, c);
+        case w::Body_Welcome: return decode_as<w::Welcome>(*env, out, c);
+        case w::Body_Refuse: return decode_as<w::Refuse>(*env, out, c);
+        case w::Body_InputBatch: return decode_as<w::InputBatch>(*env, out, c);
+        case w::Body_Snapshot: return decode_as<w::Snapshot>(*env, out, c);
+        case w::Body_RaceStatus: return decode_as<w::RaceStatus>(*env, out, c);
+        case w::Body_Results: return decode_as<w::Results>(*env, out, c);
+        case w::Body_Goodbye: return decode_as<w::Goodbye>(*env, out, c);
+        default: return c.fail("Envelope.body_type", "unknown message type");
+    }
+}
+
+std::uint64_t physics_hash(const PhysicsSettings& s) {
+    // FNV-1a over every field in declaration order, raw bits of doubles: the
+    // core's fingerprint, so that there is one list of fields to maintain.
+    return physics_fingerprint(s);
+}
+
+}  // namespace jetrace::proto

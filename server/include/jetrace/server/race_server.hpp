@@ -1,0 +1,152 @@
+// The authoritative race server, independent of sockets and clocks: the
+// caller owns time (update(now_us)) and the transport (ENet in production,
+// anything that implements net::Transport in tests).
+//
+// Race flow: lobby -> countdown -> racing -> finished -> lobby ...
+// docs/PROTOCOL.md ("Connection state machine", "Timing and input flow")
+// describes what a client sees.
+#pragma once
+
+#include "jetrace/net/transport.hpp"
+#include "jetrace/proto/messages.hpp"
+#include "jetrace/proto/world_codec.hpp"
+#include "jetrace/server/replay.hpp"
+#include "jetrace/world.hpp"
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace jetrace::server {
+
+struct ServerConfig {
+    /// Laps per race (unit: laps).
+    int laps = 3;
+    /// Most cars in a race (unit: players).
+    int max_players = 8;
+    /// Players needed before the countdown starts (unit: players).
+    int min_players = 1;
+    /// Snapshots sent per second; must divide the tick rate (unit: Hz).
+    int snapshot_rate_hz = 60;
+    /// Races to host before done() turns true; 0 hosts forever (unit: races).
+    int races = 0;
+    /// Countdown before a race (unit: s).
+    double countdown_s = 3.0;
+    /// Pause on the results between races (unit: s).
+    double results_pause_s = 3.0;
+    /// After the first car finishes, the others have this long (unit: s).
+    double finish_window_s = 60.0;
+    /// A race ends after this long whatever happens (unit: s).
+    double max_race_s = 1200.0;
+    /// Inputs further ahead of the server tick are dropped (unit: ticks).
+    int max_input_lead_ticks = 240;
+    /// A connection that has not said Hello by then is dropped (unit: s).
+    double hello_timeout_s = 5.0;
+    /// Results JSON written atomically at each race's end ("" = none).
+    std::string results_path;
+    /// Replay of each race (overwritten by the next race) ("" = none).
+    std::string record_path;
+};
+
+/// Empty if usable, else what is wrong.
+std::string validate(const ServerConfig& c, int tick_rate_hz);
+
+struct RaceEnd {
+    std::uint32_t race_number = 0;
+    std::uint32_t ticks = 0;
+    std::uint64_t state_hash = 0;
+    std::vector<proto::StandingEntry> standings;
+};
+
+class RaceServer {
+public:
+    RaceServer(const ServerConfig& config, const Scene& scene, net::Transport& transport);
+
+    /// Handles the network and runs every tick due by `now_us` (the caller's
+    /// clock). Returns the number of ticks stepped.
+    int update(std::uint64_t now_us);
+
+    /// Ends the race in progress (results so far are written), tells every
+    /// client why, and makes done() true.
+    void shutdown(const std::string& reason);
+
+    bool done() const { return done_; }
+    proto::RacePhase phase() const { return phase_; }
+    const WorldState& world() const { return world_; }
+    std::uint32_t races_completed() const { return races_completed_; }
+    std::uint64_t ticks() const { return ticks_; }
+    int max_players_seen() const { return max_players_seen_; }
+    int players() const;
+
+    /// Called at the end of every race (after the results file is written).
+    std::function<void(const RaceEnd&)> on_race_end;
+
+private:
+    static constexpr std::size_t kInputRing = 256;
+    static constexpr std::size_t kHistory = 128;
+
+    struct Client {
+        net::PeerId peer = 0;
+        bool greeted = false;
+        std::string name;
+        int slot = -1;
+        bool spectating = false;
+        std::uint64_t connected_us = 0;
+        std::array<Input, kInputRing> inputs{};
+        std::array<std::uint32_t, kInputRing> input_ticks{};
+        std::uint32_t newest_input_tick = proto::kNoTick;
+        std::uint32_t last_applied_tick = proto::kNoTick;
+        Input last_input{};
+        std::uint32_t acked_snapshot = proto::kNoTick;
+    };
+
+    void on_event(const net::Event& e);
+    void on_message(Client& c, const proto::Message& m);
+    void on_hello(Client& c, const proto::Hello& h);
+    void on_inputs(Client& c, const proto::InputBatch& b);
+    void drop(net::PeerId peer, const std::string& reason);
+    void send(net::PeerId peer, net::Channel ch, const proto::Message& m);
+    void broadcast_status();
+
+    void tick();
+    void step_race();
+    void start_race();
+    void end_race();
+    void send_snapshots();
+    std::vector<proto::StandingEntry> current_standings() const;
+    void write_results(const RaceEnd& end) const;
+    int free_slot() const;
+
+    ServerConfig config_;
+    const Scene& scene_;
+    net::Transport& transport_;
+    std::uint64_t tick_us_;
+    std::uint64_t next_tick_us_ = 0;
+    bool started_clock_ = false;
+    std::uint64_t now_us_ = 0;
+
+    std::map<net::PeerId, Client> clients_;  // ordered: deterministic iteration
+    std::vector<net::PeerId> slot_peer_;     // per slot, or kNoPeer
+    static constexpr net::PeerId kNoPeer = 0xFFFFFFFFu;
+
+    proto::RacePhase phase_ = proto::RacePhase::lobby;
+    std::uint32_t race_number_ = 0;
+    std::uint32_t races_completed_ = 0;
+    WorldState world_;
+    StepScratch scratch_;
+    std::vector<Input> applied_;
+    std::vector<std::uint8_t> pending_removals_;
+    std::uint32_t first_finish_tick_ = proto::kNoTick;
+    std::uint64_t results_until_us_ = 0;
+    std::array<std::pair<std::uint32_t, proto::WorldSnapshot>, kHistory> history_{};
+    ReplayWriter replay_;
+    std::uint64_t ticks_ = 0;
+    int max_players_seen_ = 0;
+    bool done_ = false;
+    std::vector<net::Event> events_;
+};
+
+}  // namespace jetrace::server

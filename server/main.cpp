@@ -1,0 +1,145 @@
+// jetrace-server: a dedicated authoritative race server over ENet/UDP.
+#include "jetrace/net/transport.hpp"
+#include "jetrace/server/race_server.hpp"
+#include "jetrace/track_io.hpp"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <thread>
+
+namespace {
+
+std::atomic<int> g_signal{0};
+void on_signal(int sig) { g_signal = sig; }
+
+double percentile(std::vector<double> v, double p) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    const auto i = static_cast<std::size_t>(p * static_cast<double>(v.size() - 1) + 0.5);
+    return v[std::min(i, v.size() - 1)];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"jetrace-server: hosts hovercar races over UDP (ENet)"};
+    jetrace::server::ServerConfig cfg;
+    jetrace::net::ServerConfig net_cfg;
+    net_cfg.port = 27910;
+    std::string track_spec = "stadium";
+    std::string log_level = "info";
+    int tick_rate = 120;
+    double time_scale = 1.0;
+    app.add_option("--port", net_cfg.port, "UDP port (0: any free port, printed at start)");
+    app.add_option("--bind", net_cfg.bind, "address to bind");
+    app.add_option("--track", track_spec, "built-in track (stadium, ring) or a Wavefront .obj file");
+    app.add_option("--laps", cfg.laps, "laps per race")->check(CLI::Range(1, 1000));
+    app.add_option("--max-players", cfg.max_players, "most players in a race")->check(CLI::Range(1, 64));
+    app.add_option("--min-players", cfg.min_players, "players needed to start the countdown")->check(CLI::Range(1, 64));
+    app.add_option("--tick-rate", tick_rate, "simulation steps per second")->check(CLI::Range(10, 1000));
+    app.add_option("--snapshot-rate", cfg.snapshot_rate_hz, "snapshots per second (divides the tick rate)")
+        ->check(CLI::Range(1, 1000));
+    app.add_option("--races", cfg.races, "exit after this many races (0: host forever)")->check(CLI::Range(0, 1000000));
+    app.add_option("--countdown", cfg.countdown_s, "countdown before each race (s)")->check(CLI::Range(0.0, 600.0));
+    app.add_option("--finish-window", cfg.finish_window_s, "time the others get after the winner finishes (s)")
+        ->check(CLI::Range(1.0, 3600.0));
+    app.add_option("--results", cfg.results_path, "results JSON file, written atomically at each race's end");
+    app.add_option("--record", cfg.record_path, "replay file of the race (jetrace-sim --replay reads it)");
+    app.add_option("--log-level", log_level, "trace, debug, info, warn, error, off")
+        ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
+    app.add_option("--time-scale", time_scale, "run the clock this many times faster than real time (tests)")
+        ->check(CLI::Range(0.01, 100.0));
+    CLI11_PARSE(app, argc, argv);
+    spdlog::set_level(spdlog::level::from_str(log_level));
+    spdlog::set_pattern("[%H:%M:%S.%e] [server] [%l] %v");
+
+    jetrace::Track track;
+    std::string error;
+    if (!jetrace::load_track(track_spec, track, error)) {
+        std::fprintf(stderr, "jetrace-server: %s\n", error.c_str());
+        return 2;
+    }
+    jetrace::PhysicsSettings physics;
+    physics.tick_rate_hz = tick_rate;
+    if (const std::string e = jetrace::validate(physics); !e.empty()) {
+        std::fprintf(stderr, "jetrace-server: %s\n", e.c_str());
+        return 2;
+    }
+    if (const std::string e = jetrace::server::validate(cfg, tick_rate); !e.empty()) {
+        std::fprintf(stderr, "jetrace-server: %s\n", e.c_str());
+        return 2;
+    }
+    const jetrace::Scene scene = jetrace::Scene::make(std::move(track), physics);
+    net_cfg.max_connections = static_cast<std::size_t>(cfg.max_players) + 8;  // room to refuse politely
+    auto transport = jetrace::net::listen_enet(net_cfg, error);
+    if (!transport) {
+        std::fprintf(stderr, "jetrace-server: %s\n", error.c_str());
+        return 1;
+    }
+    std::printf("listening on %s:%u\n", net_cfg.bind.c_str(), transport->local_port());
+    std::fflush(stdout);
+
+    jetrace::server::RaceServer server(cfg, scene, *transport);
+    server.on_race_end = [](const jetrace::server::RaceEnd& end) {
+        std::printf("race %u finished after %u ticks\n", end.race_number, end.ticks);
+        int pos = 1;
+        for (const auto& s : end.standings) {
+            std::printf("  %2d. %-16s %s lap %u %.3f s\n", pos++, s.name.c_str(), s.finished ? "finished" : "dnf     ",
+                        s.lap, s.finish_time_s);
+        }
+        std::printf("state_hash=%s\n", jetrace::hash_hex(end.state_hash).c_str());
+        std::fflush(stdout);
+    };
+    std::signal(SIGINT, on_signal);
+    std::signal(SIGTERM, on_signal);
+
+    using Clock = std::chrono::steady_clock;
+    const auto start = Clock::now();
+    const auto now_us = [&] {
+        return static_cast<std::uint64_t>(std::chrono::duration<double, std::micro>(Clock::now() - start).count() *
+                                          time_scale);
+    };
+    std::vector<double> tick_ms;
+    tick_ms.reserve(1 << 20);
+    while (!server.done()) {
+        if (g_signal != 0) {
+            server.shutdown(g_signal == SIGINT ? "server interrupted" : "server terminated");
+            break;
+        }
+        const auto t0 = Clock::now();
+        const int ticks = server.update(now_us());
+        if (ticks > 0) {
+            const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count() / ticks;
+            if (tick_ms.size() < tick_ms.capacity()) tick_ms.insert(tick_ms.end(), static_cast<std::size_t>(ticks), ms);
+        }
+        std::this_thread::sleep_for(std::chrono::microseconds(500));
+    }
+    // Let goodbyes leave.
+    std::vector<jetrace::net::Event> ignored;
+    for (int i = 0; i < 20; ++i) {
+        transport->service(now_us() / 1000, ignored);
+        transport->flush();
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    // Rates per simulated second (wall time scaled by --time-scale).
+    const double wall_s = std::chrono::duration<double>(Clock::now() - start).count() * time_scale;
+    const auto totals = transport->totals();
+    nlohmann::json j;
+    j["races"] = server.races_completed();
+    j["ticks"] = server.ticks();
+    j["tick_ms_median"] = percentile(tick_ms, 0.5);
+    j["tick_ms_p99"] = percentile(tick_ms, 0.99);
+    j["max_players"] = server.max_players_seen();
+    j["bytes_sent_per_s"] = static_cast<double>(totals.bytes_sent) / wall_s;
+    j["bytes_received_per_s"] = static_cast<double>(totals.bytes_received) / wall_s;
+    j["wall_s"] = wall_s;
+    std::printf("%s\n", j.dump().c_str());
+    return 0;
+}

@@ -1,0 +1,244 @@
+// RaceServer: the tick, the race phases, snapshots and results.
+#include "jetrace/race.hpp"
+#include "jetrace/server/race_server.hpp"
+
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include <cstdio>
+#include <algorithm>
+#include <fstream>
+#include <map>
+
+namespace jetrace::server {
+
+void RaceServer::tick() {
+    ++ticks_;
+    switch (phase_) {
+        case proto::RacePhase::lobby: {
+            int waiting = 0;
+            for (const auto& [peer, c] : clients_) waiting += c.greeted ? 1 : 0;
+            if (waiting >= config_.min_players) start_race();
+            break;
+        }
+        case proto::RacePhase::countdown:
+        case proto::RacePhase::racing: step_race(); break;
+        case proto::RacePhase::finished:
+            if (now_us_ >= results_until_us_) {
+                phase_ = proto::RacePhase::lobby;
+                for (auto& [peer, c] : clients_) c.spectating = false;
+                broadcast_status();
+            }
+            break;
+    }
+}
+
+void RaceServer::start_race() {
+    ++race_number_;
+    const auto countdown = static_cast<std::uint32_t>(config_.countdown_s * scene_.physics.tick_rate_hz + 0.5);
+    world_ = make_world(config_.max_players, config_.laps, countdown);
+    scratch_ = StepScratch{};
+    applied_.assign(world_.cars.size(), Input{});
+    pending_removals_.clear();
+    first_finish_tick_ = proto::kNoTick;
+    for (auto& h : history_) h.first = proto::kNoTick;
+    for (auto& [peer, c] : clients_) {
+        c.input_ticks.fill(proto::kNoTick);
+        c.newest_input_tick = proto::kNoTick;
+        c.last_applied_tick = proto::kNoTick;
+        c.last_input = Input{};
+        c.acked_snapshot = proto::kNoTick;
+        if (!c.greeted || c.slot < 0) continue;
+        c.spectating = false;
+        spawn_car(scene_, world_, c.slot, c.slot);
+    }
+    phase_ = proto::RacePhase::countdown;
+    spdlog::info("race {} on '{}': {} players, {} laps, start in {:.1f} s", race_number_, scene_.track.name, players(),
+                 config_.laps, config_.countdown_s);
+    if (!config_.record_path.empty()) {
+        ReplayHeader h;
+        h.track_name = scene_.track.name;
+        h.track_identity = scene_.track.identity();
+        h.physics_hash = proto::physics_hash(scene_.physics);
+        h.tick_rate_hz = static_cast<std::uint16_t>(scene_.physics.tick_rate_hz);
+        h.initial = world_;
+        std::string error;
+        if (!replay_.open(config_.record_path, h, error)) spdlog::error("{}", error);
+    }
+    broadcast_status();
+    send_snapshots();
+}
+
+void RaceServer::step_race() {
+    // Exactly one input per car per tick; a missing one repeats the last.
+    for (std::size_t s = 0; s < world_.cars.size(); ++s) {
+        applied_[s] = Input{};
+        const net::PeerId peer = slot_peer_[s];
+        if (peer == kNoPeer || !world_.cars[s].active) continue;
+        Client& c = clients_.at(peer);
+        const std::uint32_t t = world_.tick;
+        if (c.input_ticks[t % kInputRing] == t) {
+            c.last_input = c.inputs[t % kInputRing];
+            c.last_applied_tick = t;
+        }
+        applied_[s] = c.last_input;
+    }
+    replay_.record(world_.tick, pending_removals_, applied_);
+    pending_removals_.clear();
+    step(scene_, world_, applied_, scratch_);
+
+    if (phase_ == proto::RacePhase::countdown && world_.tick >= world_.start_tick) {
+        phase_ = proto::RacePhase::racing;
+        spdlog::info("race {}: go", race_number_);
+        broadcast_status();
+    }
+    bool any = false, all_finished = true;
+    for (const CarState& car : world_.cars) {
+        if (!car.active) continue;
+        any = true;
+        all_finished = all_finished && car.finished;
+        if (car.finished && first_finish_tick_ == proto::kNoTick) first_finish_tick_ = world_.tick;
+    }
+    const double rate = scene_.physics.tick_rate_hz;
+    const bool window_over = first_finish_tick_ != proto::kNoTick &&
+                             world_.tick - first_finish_tick_ >= config_.finish_window_s * rate;
+    const bool too_long = world_.tick >= world_.start_tick + config_.max_race_s * rate;
+    if (phase_ == proto::RacePhase::racing && (!any || all_finished || window_over || too_long)) {
+        end_race();
+        return;
+    }
+    if (world_.tick % static_cast<std::uint32_t>(scene_.physics.tick_rate_hz / config_.snapshot_rate_hz) == 0) {
+        send_snapshots();
+    }
+}
+
+void RaceServer::send_snapshots() {
+    proto::WorldSnapshot now;
+    now.state = world_;
+    now.last_inputs = applied_;
+    now.last_inputs.resize(world_.cars.size());
+    auto& slot = history_[world_.tick % kHistory];
+    // Encodings are shared between clients that acknowledged the same baseline.
+    std::map<std::uint32_t, std::vector<std::uint8_t>> by_baseline;
+    for (auto& [peer, c] : clients_) {
+        if (!c.greeted) continue;
+        const proto::WorldSnapshot* base = nullptr;
+        std::uint32_t base_tick = proto::kNoTick;
+        if (c.acked_snapshot != proto::kNoTick) {
+            const auto& h = history_[c.acked_snapshot % kHistory];
+            if (h.first == c.acked_snapshot) {
+                base = &h.second;
+                base_tick = h.first;
+            }
+        }
+        auto it = by_baseline.find(base_tick);
+        if (it == by_baseline.end()) it = by_baseline.emplace(base_tick, proto::encode_world(now, base)).first;
+        proto::Snapshot snap;
+        snap.server_tick = world_.tick;
+        snap.baseline_tick = base_tick;
+        snap.last_applied_input_tick = c.last_applied_tick;
+        const std::int64_t margin = c.newest_input_tick == proto::kNoTick
+                                        ? -32768
+                                        : std::int64_t{c.newest_input_tick} - std::int64_t{world_.tick};
+        snap.input_margin_ticks = static_cast<std::int16_t>(std::clamp<std::int64_t>(margin, -32768, 32767));
+        snap.phase = phase_;
+        snap.race_number = race_number_;
+        snap.world = it->second;
+        send(peer, net::Channel::unreliable, snap);
+    }
+    slot.first = world_.tick;
+    slot.second = std::move(now);
+}
+
+std::vector<proto::StandingEntry> RaceServer::current_standings() const {
+    std::vector<proto::StandingEntry> out;
+    for (const Standing& s : standings(scene_.track, world_.cars, world_.start_tick, scene_.physics.tick_rate_hz)) {
+        proto::StandingEntry e;
+        e.slot = static_cast<std::uint8_t>(s.slot);
+        const net::PeerId peer = slot_peer_[static_cast<std::size_t>(s.slot)];
+        const auto it = clients_.find(peer);
+        e.name = it != clients_.end() ? it->second.name : "player" + std::to_string(s.slot);
+        e.finished = s.finished;
+        e.lap = static_cast<std::uint16_t>(s.lap);
+        e.finish_time_s = s.finish_time_s;
+        out.push_back(e);
+    }
+    return out;
+}
+
+void RaceServer::write_results(const RaceEnd& end) const {
+    if (config_.results_path.empty()) return;
+    nlohmann::json j;
+    j["race"] = end.race_number;
+    j["track"] = scene_.track.name;
+    j["laps"] = config_.laps;
+    j["ticks"] = end.ticks;
+    j["state_hash"] = hash_hex(end.state_hash);
+    j["standings"] = nlohmann::json::array();
+    int pos = 1;
+    for (const auto& s : end.standings) {
+        j["standings"].push_back({{"position", pos++},
+                                  {"slot", s.slot},
+                                  {"name", s.name},
+                                  {"finished", s.finished},
+                                  {"lap", s.lap},
+                                  {"time_s", s.finish_time_s}});
+    }
+    // Atomic: write a temporary file beside it, then rename over.
+    const std::string tmp = config_.results_path + ".tmp";
+    {
+        std::ofstream f(tmp, std::ios::trunc);
+        f << j.dump(2) << "\n";
+        f.flush();
+        if (!f) {
+            spdlog::error("cannot write results to '{}'", tmp);
+            return;
+        }
+    }
+    if (std::rename(tmp.c_str(), config_.results_path.c_str()) != 0) {
+        spdlog::error("cannot rename results into '{}'", config_.results_path);
+    }
+}
+
+void RaceServer::end_race() {
+    RaceEnd end;
+    end.race_number = race_number_;
+    end.ticks = world_.tick;
+    end.state_hash = state_hash(world_);
+    end.standings = current_standings();
+    replay_.close();
+    write_results(end);
+    spdlog::info("race {} over after {} ticks", race_number_, end.ticks);
+    if (on_race_end) on_race_end(end);
+    proto::Results r;
+    r.race_number = race_number_;
+    r.standings = end.standings;
+    r.state_hash = end.state_hash;
+    send_snapshots();  // the final state, so clients can check the hash
+    for (const auto& [peer, c] : clients_) {
+        if (c.greeted) send(peer, net::Channel::reliable, r);
+    }
+    phase_ = proto::RacePhase::finished;
+    ++races_completed_;
+    results_until_us_ = now_us_ + static_cast<std::uint64_t>(config_.results_pause_s * 1e6);
+    broadcast_status();
+    if (config_.races > 0 && races_completed_ >= static_cast<std::uint32_t>(config_.races)) {
+        shutdown("the server hosted its last race");
+    }
+}
+
+void RaceServer::shutdown(const std::string& reason) {
+    if (done_) return;
+    if (phase_ == proto::RacePhase::countdown || phase_ == proto::RacePhase::racing) end_race();
+    if (done_) return;
+    done_ = true;
+    replay_.close();
+    for (const auto& [peer, c] : clients_) {
+        send(peer, net::Channel::reliable, proto::Goodbye{reason});
+        transport_.disconnect(peer);
+    }
+    transport_.flush();
+    spdlog::info("server shutting down: {}", reason);
+}
+
+}  // namespace jetrace::server

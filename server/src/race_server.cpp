@@ -1,0 +1,244 @@
+// RaceServer: connections, the handshake and client messages.
+#include "jetrace/server/race_server.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <sstream>
+
+namespace jetrace::server {
+
+std::string validate(const ServerConfig& c, int tick_rate_hz) {
+    std::ostringstream err;
+    if (c.laps < 1 || c.laps > 1000) err << "laps must be in [1, 1000]; ";
+    if (c.max_players < 1 || c.max_players > proto::kMaxSlots) err << "max players must be in [1, 64]; ";
+    if (c.min_players < 1 || c.min_players > c.max_players) err << "min players must be in [1, max players]; ";
+    if (c.snapshot_rate_hz < 1 || c.snapshot_rate_hz > tick_rate_hz || tick_rate_hz % c.snapshot_rate_hz != 0)
+        err << "snapshot rate must divide the tick rate (" << tick_rate_hz << " Hz); ";
+    if (c.races < 0) err << "races must be >= 0; ";
+    if (!(c.countdown_s >= 0 && c.countdown_s <= 600)) err << "countdown must be in [0, 600] s; ";
+    if (!(c.results_pause_s >= 0 && c.results_pause_s <= 600)) err << "results pause must be in [0, 600] s; ";
+    if (!(c.finish_window_s > 0 && c.finish_window_s <= 3600)) err << "finish window must be in (0, 3600] s; ";
+    if (!(c.max_race_s > 0 && c.max_race_s <= 86400)) err << "max race time must be in (0, 86400] s; ";
+    if (c.max_input_lead_ticks < 1 || c.max_input_lead_ticks > 200 * 120) err << "max input lead out of range; ";
+    if (!(c.hello_timeout_s > 0 && c.hello_timeout_s <= 600)) err << "hello timeout must be in (0, 600] s; ";
+    return err.str();
+}
+
+RaceServer::RaceServer(const ServerConfig& config, const Scene& scene, net::Transport& transport)
+    : config_(config),
+      scene_(scene),
+      transport_(transport),
+      tick_us_(1000000u / static_cast<std::uint64_t>(scene.physics.tick_rate_hz)),
+      slot_peer_(static_cast<std::size_t>(config.max_players), kNoPeer) {
+    for (auto& h : history_) h.first = proto::kNoTick;
+    world_ = make_world(config_.max_players, config_.laps);
+}
+
+int RaceServer::players() const {
+    return static_cast<int>(std::count_if(clients_.begin(), clients_.end(), [](const auto& kv) { return kv.second.greeted; }));
+}
+
+int RaceServer::free_slot() const {
+    for (std::size_t s = 0; s < slot_peer_.size(); ++s) {
+        if (slot_peer_[s] == kNoPeer) return static_cast<int>(s);
+    }
+    return -1;
+}
+
+void RaceServer::send(net::PeerId peer, net::Channel ch, const proto::Message& m) {
+    const std::vector<std::uint8_t> bytes = proto::encode(m);
+    transport_.send(peer, ch, bytes);
+}
+
+void RaceServer::drop(net::PeerId peer, const std::string& reason) {
+    auto it = clients_.find(peer);
+    if (it == clients_.end()) return;
+    spdlog::warn("dropping client {} ({}): {}", peer, it->second.name.empty() ? "no name" : it->second.name, reason);
+    send(peer, net::Channel::reliable, proto::Goodbye{reason.substr(0, proto::kMaxReasonBytes)});
+    transport_.disconnect(peer);
+    const int slot = it->second.slot;
+    clients_.erase(it);
+    if (slot >= 0) {
+        slot_peer_[static_cast<std::size_t>(slot)] = kNoPeer;
+        if (world_.cars[static_cast<std::size_t>(slot)].active) {
+            remove_car(world_, slot);
+            pending_removals_.push_back(static_cast<std::uint8_t>(slot));
+        }
+        broadcast_status();
+    }
+}
+
+void RaceServer::on_event(const net::Event& e) {
+    switch (e.type) {
+        case net::Event::Type::connected: {
+            Client c;
+            c.peer = e.peer;
+            c.connected_us = now_us_;
+            c.input_ticks.fill(proto::kNoTick);
+            clients_[e.peer] = c;
+            spdlog::info("client {} connected", e.peer);
+            break;
+        }
+        case net::Event::Type::disconnected: {
+            auto it = clients_.find(e.peer);
+            if (it == clients_.end()) break;
+            spdlog::info("client {} ({}) disconnected", e.peer, it->second.name);
+            const int slot = it->second.slot;
+            clients_.erase(it);
+            if (slot >= 0) {
+                slot_peer_[static_cast<std::size_t>(slot)] = kNoPeer;
+                if (world_.cars[static_cast<std::size_t>(slot)].active) {
+                    remove_car(world_, slot);  // the race goes on without it
+                    pending_removals_.push_back(static_cast<std::uint8_t>(slot));
+                }
+                broadcast_status();
+            }
+            break;
+        }
+        case net::Event::Type::received: {
+            auto it = clients_.find(e.peer);
+            if (it == clients_.end()) break;
+            proto::Message m;
+            std::string error;
+            if (!proto::decode(e.data, m, error)) {
+                drop(e.peer, "malformed message: " + error);
+                break;
+            }
+            on_message(it->second, m);
+            break;
+        }
+    }
+}
+
+void RaceServer::on_message(Client& c, const proto::Message& m) {
+    if (const auto* hello = std::get_if<proto::Hello>(&m)) {
+        on_hello(c, *hello);
+    } else if (const auto* inputs = std::get_if<proto::InputBatch>(&m)) {
+        if (!c.greeted) {
+            drop(c.peer, "protocol violation: inputs before hello");
+            return;
+        }
+        on_inputs(c, *inputs);
+    } else if (std::holds_alternative<proto::Goodbye>(m)) {
+        spdlog::info("client {} ({}) said goodbye", c.peer, c.name);
+        transport_.disconnect(c.peer);
+    } else {
+        drop(c.peer, "protocol violation: clients may not send this message");
+    }
+}
+
+void RaceServer::on_hello(Client& c, const proto::Hello& h) {
+    if (c.greeted) {
+        drop(c.peer, "protocol violation: second hello");
+        return;
+    }
+    if (h.protocol_version != proto::kProtocolVersion) {
+        const std::string reason = "protocol version " + std::to_string(h.protocol_version) +
+                                   " not supported (server speaks " + std::to_string(proto::kProtocolVersion) + ")";
+        spdlog::warn("refusing client {}: {}", c.peer, reason);
+        send(c.peer, net::Channel::reliable, proto::Refuse{reason});
+        transport_.disconnect(c.peer);
+        return;
+    }
+    const int slot = free_slot();
+    if (slot < 0) {
+        const std::string reason = "server full (" + std::to_string(config_.max_players) + " players)";
+        spdlog::warn("refusing client {} ({}): {}", c.peer, h.name, reason);
+        send(c.peer, net::Channel::reliable, proto::Refuse{reason});
+        transport_.disconnect(c.peer);
+        return;
+    }
+    c.greeted = true;
+    c.name = h.name.empty() ? "player" + std::to_string(slot) : h.name;
+    c.slot = slot;
+    c.spectating = phase_ != proto::RacePhase::lobby;
+    slot_peer_[static_cast<std::size_t>(slot)] = c.peer;
+    max_players_seen_ = std::max(max_players_seen_, players());
+    spdlog::info("client {} is '{}' in slot {}{}", c.peer, c.name, slot, c.spectating ? " (spectating until the next race)" : "");
+
+    proto::Welcome w;
+    w.slot = static_cast<std::uint8_t>(slot);
+    w.max_players = static_cast<std::uint8_t>(config_.max_players);
+    w.tick_rate_hz = static_cast<std::uint16_t>(scene_.physics.tick_rate_hz);
+    w.snapshot_rate_hz = static_cast<std::uint16_t>(config_.snapshot_rate_hz);
+    w.track_name = scene_.track.name;
+    w.track_identity = scene_.track.identity();
+    w.physics_hash = proto::physics_hash(scene_.physics);
+    w.server_tick = world_.tick;
+    send(c.peer, net::Channel::reliable, w);
+    broadcast_status();
+}
+
+void RaceServer::on_inputs(Client& c, const proto::InputBatch& b) {
+    if (b.ack_snapshot_tick != proto::kNoTick && b.ack_snapshot_tick <= world_.tick &&
+        (c.acked_snapshot == proto::kNoTick || b.ack_snapshot_tick > c.acked_snapshot)) {
+        c.acked_snapshot = b.ack_snapshot_tick;
+    }
+    if (c.spectating || c.slot < 0 ||
+        (phase_ != proto::RacePhase::countdown && phase_ != proto::RacePhase::racing)) {
+        return;
+    }
+    const std::uint64_t now_tick = world_.tick;
+    for (std::size_t i = 0; i < b.inputs.size(); ++i) {
+        const std::uint64_t t = std::uint64_t{b.first_tick} + i;
+        if (t < now_tick) continue;  // too late: that tick is simulated
+        if (t > now_tick + static_cast<std::uint64_t>(config_.max_input_lead_ticks)) {
+            spdlog::debug("client {}: input for tick {} is too far ahead of {}; dropped", c.peer, t, now_tick);
+            break;
+        }
+        const auto tick = static_cast<std::uint32_t>(t);
+        // One input per tick: a client sending several for the same tick
+        // (redundancy, or a speed hack) only ever replaces it.
+        c.inputs[tick % kInputRing] = b.inputs[i];
+        c.input_ticks[tick % kInputRing] = tick;
+        if (c.newest_input_tick == proto::kNoTick || tick > c.newest_input_tick) c.newest_input_tick = tick;
+    }
+}
+
+void RaceServer::broadcast_status() {
+    proto::RaceStatus s;
+    s.phase = phase_;
+    s.race_number = race_number_;
+    s.start_tick = world_.start_tick;
+    s.laps = static_cast<std::uint16_t>(config_.laps);
+    for (const auto& [peer, c] : clients_) {
+        if (!c.greeted) continue;
+        s.players.push_back({static_cast<std::uint8_t>(c.slot), c.name, c.spectating});
+    }
+    for (const auto& [peer, c] : clients_) {
+        if (c.greeted) send(peer, net::Channel::reliable, s);
+    }
+}
+
+int RaceServer::update(std::uint64_t now_us) {
+    now_us_ = now_us;
+    if (!started_clock_) {
+        started_clock_ = true;
+        next_tick_us_ = now_us;
+    }
+    events_.clear();
+    transport_.service(now_us / 1000, events_);
+    for (const net::Event& e : events_) on_event(e);
+    // Drop connections that never said hello.
+    std::vector<net::PeerId> silent;
+    for (const auto& [peer, c] : clients_) {
+        if (!c.greeted && now_us - c.connected_us > static_cast<std::uint64_t>(config_.hello_timeout_s * 1e6)) {
+            silent.push_back(peer);
+        }
+    }
+    for (net::PeerId p : silent) drop(p, "no hello within " + std::to_string(config_.hello_timeout_s) + " s");
+
+    int stepped = 0;
+    // Never try to catch up more than a quarter second: skip instead.
+    if (now_us > next_tick_us_ + 250000) next_tick_us_ = now_us - 250000;
+    while (!done_ && now_us >= next_tick_us_) {
+        tick();
+        next_tick_us_ += tick_us_;
+        ++stepped;
+    }
+    transport_.flush();
+    return stepped;
+}
+
+}  // namespace jetrace::server
