@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
-# Configures and builds jetrace (Release, g++) into build/. Used by the other scripts.
+# Configures (once) and builds jetrace (Release) into build/. Used by the other scripts.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${JETRACE_BUILD_DIR:-$root/build}"
 jobs="${JETRACE_JOBS:-$(nproc)}"
-cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER="${CXX:-g++}" >/dev/null
+if [ ! -f "$build/CMakeCache.txt" ]; then
+  cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER="${CXX:-g++}" >/dev/null
+fi
 cmake --build "$build" -j "$jobs"
