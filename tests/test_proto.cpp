@@ -298,28 +298,22 @@ TEST(ProtoMessages, PhysicsHashCoversEveryField) {
     const jetrace::PhysicsSettings base;
     const std::uint64_t h = jp::physics_hash(base);
     EXPECT_EQ(h, jp::physics_hash(jetrace::PhysicsSettings{}));
-    auto changes = [&](auto mutate) {
-        jetrace::PhysicsSettings s = base;
-        mutate(s);
-        return jp::physics_hash(s) != h;
-    };
-    EXPECT_TRUE(changes([](auto& s) { s.tick_rate_hz = 60; }));
-    EXPECT_TRUE(changes([](auto& s) { s.gravity_mps2 = std::nextafter(s.gravity_mps2, 10.0); }));
-    EXPECT_TRUE(changes([](auto& s) { s.car_radius_m = 2.0; }));
-    EXPECT_TRUE(changes([](auto& s) { s.thrust_mps2 = 20.0; }));
-    EXPECT_TRUE(changes([](auto& s) { s.drag_per_m = 1e-4; }));
-    EXPECT_TRUE(changes([](auto& s) { s.brake_mps2 = 20.0; }));
-    EXPECT_TRUE(changes([](auto& s) { s.steer_rate_radps = 1.0; }));
-    EXPECT_TRUE(changes([](auto& s) { s.grip_mps2 = 30.0; }));
-    EXPECT_TRUE(changes([](auto& s) { s.slide_mps2 = 10.0; }));
-    EXPECT_TRUE(changes([](auto& s) { s.align_rate_per_s = 10.0; }));
-    EXPECT_TRUE(changes([](auto& s) { s.ride_min_cos = 0.4; }));
-    EXPECT_TRUE(changes([](auto& s) { s.no_progress_s = 5.0; }));
-    EXPECT_TRUE(changes([](auto& s) { s.resolver_passes = 10; }));
-    EXPECT_TRUE(changes([](auto& s) { s.resolver_epsilon_m = 1e-3; }));
-    EXPECT_TRUE(changes([](auto& s) { s.contact_skin_m = 0.1; }));
-    EXPECT_TRUE(changes([](auto& s) { s.integrator = jetrace::Integrator::explicit_euler; }));
-    EXPECT_TRUE(changes([](auto& s) { s.quantize_state = false; }));
+    using S = jetrace::PhysicsSettings;
+    const std::vector<void (*)(S&)> mutations = {
+        [](S& s) { s.tick_rate_hz = 60; }, [](S& s) { s.gravity_mps2 = std::nextafter(s.gravity_mps2, 10.0); },
+        [](S& s) { s.car_radius_m = 2.0; }, [](S& s) { s.thrust_mps2 = 20.0; },
+        [](S& s) { s.drag_per_m = 1e-4; }, [](S& s) { s.brake_mps2 = 20.0; },
+        [](S& s) { s.steer_rate_radps = 1.0; }, [](S& s) { s.grip_mps2 = 30.0; },
+        [](S& s) { s.slide_mps2 = 10.0; }, [](S& s) { s.align_rate_per_s = 10.0; },
+        [](S& s) { s.ride_min_cos = 0.4; }, [](S& s) { s.no_progress_s = 5.0; },
+        [](S& s) { s.resolver_passes = 10; }, [](S& s) { s.resolver_epsilon_m = 1e-3; },
+        [](S& s) { s.contact_skin_m = 0.1; }, [](S& s) { s.integrator = jetrace::Integrator::explicit_euler; },
+        [](S& s) { s.quantize_state = false; }};
+    for (std::size_t i = 0; i < mutations.size(); ++i) {
+        S s = base;
+        mutations[i](s);
+        EXPECT_NE(jp::physics_hash(s), h) << "field " << i;
+    }
 }
 
 TEST(ProtoMessages, PhaseNames) {

@@ -9,6 +9,19 @@ namespace jetrace::client {
 
 namespace {
 constexpr std::uint64_t kMaxCatchUp_us = 250000;
+
+// The best guess of car `slot`'s input at tick t from a snapshot: the input
+// the server already holds for t if the snapshot carries it, else the newest
+// one known.
+Input known_input(const proto::WorldSnapshot& snap, std::size_t slot, std::uint32_t t) {
+    if (slot >= snap.last_inputs.size()) return Input{};
+    if (slot < snap.upcoming.size() && !snap.upcoming[slot].empty()) {
+        const auto& up = snap.upcoming[slot];
+        const std::uint32_t k = t >= snap.state.tick ? t - snap.state.tick : 0;
+        return k < up.size() ? up[k] : up.back();
+    }
+    return snap.last_inputs[slot];
+}
 }  // namespace
 
 RaceClient::RaceClient(const ClientConfig& config, const Scene& scene, net::Transport& transport)
@@ -171,9 +184,7 @@ void RaceClient::reconcile(const proto::WorldSnapshot& snap) {
     WorldState w = snap.state;
     step_inputs_.assign(w.cars.size(), Input{});
     for (std::uint32_t t = S; t < target; ++t) {
-        for (std::size_t s = 0; s < w.cars.size(); ++s) {
-            step_inputs_[s] = s < snap.last_inputs.size() ? snap.last_inputs[s] : Input{};
-        }
+        for (std::size_t s = 0; s < w.cars.size(); ++s) step_inputs_[s] = known_input(snap, s, t);
         if (my_input_ticks_[t % kRing] == t) step_inputs_[own] = my_inputs_[t % kRing];
         my_states_[t % kRing] = w.cars[own];
         my_state_ticks_[t % kRing] = t;
@@ -209,9 +220,7 @@ void RaceClient::run_tick(const InputSource& input) {
     my_states_[t % kRing] = predicted_.cars[own];
     my_state_ticks_[t % kRing] = t;
     step_inputs_.assign(predicted_.cars.size(), Input{});
-    for (std::size_t s = 0; s < predicted_.cars.size(); ++s) {
-        if (s < latest_.last_inputs.size()) step_inputs_[s] = latest_.last_inputs[s];
-    }
+    for (std::size_t s = 0; s < predicted_.cars.size(); ++s) step_inputs_[s] = known_input(latest_, s, t);
     step_inputs_[own] = mine;
     step(scene_, predicted_, step_inputs_, scratch_);
     visual_offset_ *= 1.0 - config_.smoothing_per_tick;

@@ -7,6 +7,7 @@
 #include "jetrace/proto/messages.hpp"
 #include "world_model.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cassert>
 #include <string>
@@ -222,8 +223,9 @@ const CarState* car_ref(const WorldSnapshot* baseline, std::size_t i) {
     return &baseline->state.cars[i];
 }
 
-/// A baseline the decoder can use: it came out of decode_world (or the
-/// server's own encoder input), so only its shape is checked.
+/// A baseline the decoder can use: one decode_world produced (or the
+/// server's own encoder input). Checked so that a caller's mistake is an
+/// error, not an assertion or an overflow.
 bool baseline_usable(const WorldSnapshot& b, std::string& error) {
     if (b.state.cars.size() > static_cast<std::size_t>(kMaxSlots) || b.last_inputs.size() != b.state.cars.size()) {
         error = "world payload: baseline has a bad slot count";
@@ -298,6 +300,21 @@ std::vector<std::uint8_t> encode_world(const WorldSnapshot& now, const WorldSnap
         const Input ref_input = baseline ? baseline->last_inputs[i] : Input{};
         w.put_bit(input == ref_input);
         if (!(input == ref_input)) w.put(input.pack(), 10);
+    }
+    // Upcoming inputs of active cars: a 3-bit count, then each input as
+    // "same as the one before" (starting from the last input) or 10 bits.
+    for (std::size_t i = 0; i < slots; ++i) {
+        if (!s.cars[i].active) continue;
+        const std::size_t count =
+            i < now.upcoming.size() ? std::min(now.upcoming[i].size(), kMaxUpcomingInputs) : std::size_t{0};
+        w.put(count, 3);
+        Input prev = now.last_inputs[i];
+        for (std::size_t k = 0; k < count; ++k) {
+            const Input& in = now.upcoming[i][k];
+            w.put_bit(in == prev);
+            if (!(in == prev)) w.put(in.pack(), 10);
+            prev = in;
+        }
     }
     return w.finish();
 }
@@ -390,6 +407,23 @@ bool decode_into(std::span<const std::uint8_t> bytes, const WorldSnapshot* basel
         } else {
             if (!r.bits("last input", 10, v)) return false;
             out.last_inputs[i] = Input::unpack(static_cast<std::uint16_t>(v));
+        }
+    }
+    out.upcoming.assign(slots, {});
+    for (std::size_t i = 0; i < slots; ++i) {
+        if (!s.cars[i].active) continue;
+        r.set_prefix("slot " + std::to_string(i) + " ");
+        if (!r.bits("upcoming count", 3, v)) return false;
+        const auto count = static_cast<std::size_t>(v);
+        Input prev = out.last_inputs[i];
+        for (std::size_t k = 0; k < count; ++k) {
+            bool same = false;
+            if (!r.bit("upcoming input", same)) return false;
+            if (!same) {
+                if (!r.bits("upcoming input", 10, v)) return false;
+                prev = Input::unpack(static_cast<std::uint16_t>(v));
+            }
+            out.upcoming[i].push_back(prev);
         }
     }
     r.set_prefix("");

@@ -117,6 +117,19 @@ void RaceServer::send_snapshots() {
     now.state = world_;
     now.last_inputs = applied_;
     now.last_inputs.resize(world_.cars.size());
+    now.tick_rate_hz = static_cast<std::uint16_t>(scene_.physics.tick_rate_hz);
+    // The inputs already received for the coming ticks, so that clients
+    // replay the other cars exactly instead of guessing.
+    now.upcoming.assign(world_.cars.size(), {});
+    for (std::size_t s = 0; s < world_.cars.size(); ++s) {
+        const net::PeerId peer = slot_peer_[s];
+        if (peer == kNoPeer || !world_.cars[s].active) continue;
+        const Client& c = clients_.at(peer);
+        for (std::uint32_t t = world_.tick; now.upcoming[s].size() < proto::kMaxUpcomingInputs; ++t) {
+            if (c.input_ticks[t % kInputRing] != t) break;
+            now.upcoming[s].push_back(c.inputs[t % kInputRing]);
+        }
+    }
     auto& slot = history_[world_.tick % kHistory];
     // Encodings are shared between clients that acknowledged the same baseline.
     std::map<std::uint32_t, std::vector<std::uint8_t>> by_baseline;

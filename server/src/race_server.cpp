@@ -180,6 +180,13 @@ void RaceServer::on_inputs(Client& c, const proto::InputBatch& b) {
         return;
     }
     const std::uint64_t now_tick = world_.tick;
+    // The newest tick the client has produced an input for, late or not: the
+    // margin fed back in snapshots tells it to run further ahead.
+    const std::uint64_t newest = std::uint64_t{b.first_tick} + b.inputs.size() - 1;
+    if (newest <= now_tick + static_cast<std::uint64_t>(config_.max_input_lead_ticks) &&
+        (c.newest_input_tick == proto::kNoTick || newest > c.newest_input_tick)) {
+        c.newest_input_tick = static_cast<std::uint32_t>(newest);
+    }
     for (std::size_t i = 0; i < b.inputs.size(); ++i) {
         const std::uint64_t t = std::uint64_t{b.first_tick} + i;
         if (t < now_tick) continue;  // too late: that tick is simulated
@@ -192,7 +199,6 @@ void RaceServer::on_inputs(Client& c, const proto::InputBatch& b) {
         // (redundancy, or a speed hack) only ever replaces it.
         c.inputs[tick % kInputRing] = b.inputs[i];
         c.input_ticks[tick % kInputRing] = tick;
-        if (c.newest_input_tick == proto::kNoTick || tick > c.newest_input_tick) c.newest_input_tick = tick;
     }
 }
 

@@ -25,7 +25,15 @@ struct WorldSnapshot {
     /// with a baseline uses (and decodes to) the baseline's value, so the
     /// server fills it in and clients never need to.
     std::uint16_t tick_rate_hz = 120;
+    /// Per slot (or empty): the inputs the server already holds for ticks
+    /// tick, tick+1, ... (at most kMaxUpcomingInputs, consecutive). A client
+    /// replays the other cars with them instead of guessing, so with no loss
+    /// its own prediction matches the server even in contact with them.
+    std::vector<std::vector<Input>> upcoming;
 };
+
+/// Most upcoming inputs a snapshot carries per car.
+inline constexpr std::size_t kMaxUpcomingInputs = 7;
 
 /// Encodes `now` against `baseline` (nullptr: no baseline). Both must have
 /// the same number of slots (<= kMaxSlots) and quantised states.
