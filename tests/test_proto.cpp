@@ -538,6 +538,32 @@ TEST(ProtoWorld, ExtremeFieldValuesRoundTrip) {
     round_trip(b, &a);
     round_trip(a, &a);
     round_trip(b, &b);
-    // Identical slots: 12 header bits and one bit per slot.
-    EXPECT_EQ(jp::encode_world(b, &b).size(), 2u);
+    // Identical slots: 12 header bits, one bit per slot, and a 3-bit
+    // upcoming-input count (zero here) per active car.
+    std::size_t active = 0;
+    for (const auto& car : b.state.cars) active += car.active ? 1 : 0;
+    EXPECT_EQ(jp::encode_world(b, &b).size(), (12 + b.state.cars.size() + 3 * active + 7) / 8);
+}
+
+TEST(ProtoWorld, UpcomingInputsRoundTrip) {
+    const Race& race = ring_race();
+    jp::WorldSnapshot now = race.history[race.history.size() / 2];
+    const jp::WorldSnapshot& base = race.history[race.history.size() / 2 - 2];
+    now.upcoming.assign(now.state.cars.size(), {});
+    for (std::size_t i = 0; i < now.state.cars.size(); ++i) {
+        if (!now.state.cars[i].active) continue;
+        for (std::size_t k = 0; k < i % (jp::kMaxUpcomingInputs + 1); ++k) {
+            now.upcoming[i].push_back(jetrace::Input::clamped(static_cast<int>(k * 3 % 16), static_cast<int>(k) - 3, static_cast<int>(k % 2)));
+        }
+    }
+    for (const jp::WorldSnapshot* b : {static_cast<const jp::WorldSnapshot*>(nullptr), &base}) {
+        jp::WorldSnapshot out;
+        std::string error;
+        ASSERT_TRUE(jp::decode_world(jp::encode_world(now, b), b, out, error)) << error;
+        ASSERT_EQ(out.upcoming.size(), now.state.cars.size());
+        for (std::size_t i = 0; i < now.state.cars.size(); ++i) {
+            ASSERT_EQ(out.upcoming[i].size(), now.upcoming[i].size()) << "slot " << i;
+            for (std::size_t k = 0; k < now.upcoming[i].size(); ++k) EXPECT_EQ(out.upcoming[i][k], now.upcoming[i][k]);
+        }
+    }
 }
