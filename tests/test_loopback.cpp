@@ -29,15 +29,20 @@ using jetrace::server::RaceServer;
 struct RaceOutcome {
     bool server_done = false;
     jetrace::server::RaceEnd end;
+    std::vector<jetrace::server::RaceEnd> ends;
     std::vector<jetrace::client::ClientStats> stats;
     std::vector<bool> finished;
     std::uint64_t replay_hash = 0;
     bool replay_ok = false;
     int hash_checks = 0;
     int hash_mismatches = 0;
+    /// Largest distance between where bot 0 draws bot 1 (interpolated) and
+    /// bot 1's newest authoritative position, while racing (unit: m).
+    double max_interpolation_gap_m = 0;
+    int interpolation_checks = 0;
 };
 
-RaceOutcome race(int bots, const jetrace::net::Conditions* conditions, int laps) {
+RaceOutcome race(int bots, const jetrace::net::Conditions* conditions, int laps, int races = 1) {
     spdlog::cfg::load_env_levels();  // SPDLOG_LEVEL=debug shows every correction
     RaceOutcome out;
     jetrace::Track track;
@@ -50,8 +55,9 @@ RaceOutcome race(int bots, const jetrace::net::Conditions* conditions, int laps)
     cfg.laps = laps;
     cfg.max_players = bots;
     cfg.min_players = bots;
-    cfg.races = 1;
+    cfg.races = races;
     cfg.countdown_s = 1.0;
+    cfg.results_pause_s = 1.0;
     cfg.record_path = replay_path;
     cfg.finish_window_s = 120;
 
@@ -66,7 +72,10 @@ RaceOutcome race(int bots, const jetrace::net::Conditions* conditions, int laps)
     const std::uint16_t port = server_net->local_port();
     if (conditions) server_net = jetrace::net::condition(std::move(server_net), *conditions);
     RaceServer server(cfg, scene, *server_net);
-    server.on_race_end = [&](const jetrace::server::RaceEnd& e) { out.end = e; };
+    server.on_race_end = [&](const jetrace::server::RaceEnd& e) {
+        out.end = e;
+        out.ends.push_back(e);
+    };
 
     std::vector<std::unique_ptr<jetrace::net::Transport>> nets;
     std::vector<std::unique_ptr<RaceClient>> clients;
@@ -110,6 +119,14 @@ RaceOutcome race(int bots, const jetrace::net::Conditions* conditions, int laps)
             }
         }
         if (server_hashes.size() > 4000) server_hashes.erase(server_hashes.begin());
+        if (server.phase() == jetrace::proto::RacePhase::racing && bots > 1) {
+            const auto& a = clients[0]->authoritative();
+            if (a.cars.size() > 1 && a.cars[1].active && !a.cars[1].finished) {
+                const double gap = (clients[0]->visual_position(1) - a.cars[1].position).norm();
+                out.max_interpolation_gap_m = std::max(out.max_interpolation_gap_m, gap);
+                ++out.interpolation_checks;
+            }
+        }
         if (now_us % 5000 == 0) std::this_thread::sleep_for(std::chrono::microseconds(200));
         const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
         if (wall > 240.0 || now_us > 600'000'000u) break;  // bounded: never hang CI
@@ -166,6 +183,11 @@ TEST(Loopback, EightBotsNoLoss) {
         EXPECT_EQ(o.stats[i].corrections, 0u) << "bot " << i << " had to correct its prediction without any loss";
     }
     EXPECT_GT(o.hash_checks, 10);
+    // Drawn two snapshot intervals (33 ms) behind: a car at 70-100 m/s is a
+    // few metres back, never tens.
+    EXPECT_GT(o.interpolation_checks, 100);
+    EXPECT_LT(o.max_interpolation_gap_m, 8.0);
+    EXPECT_GT(o.max_interpolation_gap_m, 0.0) << "interpolation shows the newest state: no delay at all";
     EXPECT_EQ(o.hash_mismatches, 0) << "a client decoded a state whose hash differs from the server's at that tick";
     EXPECT_EQ(jetrace::hash_hex(o.replay_hash), jetrace::hash_hex(o.end.state_hash))
         << "the recorded replay does not reproduce the live server's final state";
@@ -194,4 +216,21 @@ TEST(Loopback, EightBotsLossLatencyJitterDuplicationReordering) {
     for (const auto& st : o.stats) EXPECT_LT(st.max_correction_m, 0.5) << "a correction did not stay small";
     EXPECT_EQ(o.hash_mismatches, 0);
     EXPECT_EQ(jetrace::hash_hex(o.replay_hash), jetrace::hash_hex(o.end.state_hash));
+}
+
+TEST(Loopback, TwoRacesInARow) {
+    // Clients stay connected for a second race: a fresh world whose ticks
+    // start again from 0 must not confuse their input or snapshot state.
+    const RaceOutcome o = race(3, nullptr, 1, 2);
+    report(o);
+    ASSERT_TRUE(o.server_done);
+    ASSERT_EQ(o.ends.size(), 2u);
+    for (const auto& e : o.ends) {
+        ASSERT_FALSE(e.standings.empty());
+        for (const auto& s : e.standings) EXPECT_TRUE(s.finished) << "race " << e.race_number << " slot " << int{s.slot};
+    }
+    const double first = o.ends[0].standings[0].finish_time_s;
+    const double second = o.ends[1].standings[0].finish_time_s;
+    EXPECT_LT(second, first * 1.3) << "the second race's winner was much slower: inputs lost after the restart?";
+    for (const auto& st : o.stats) EXPECT_EQ(st.corrections, 0u);
 }

@@ -74,13 +74,16 @@ void RaceClient::on_event(const net::Event& e) {
 
 void RaceClient::on_message(const proto::Message& m) {
     if (const auto* w = std::get_if<proto::Welcome>(&m)) {
-        if (w->track_identity != scene_.track.identity()) {
+        if (state_ != ClientState::waiting_welcome) {
+            spdlog::warn("{}: ignoring an unexpected second welcome", config_.name);
+        } else if (w->track_identity != scene_.track.identity()) {
             leave("track mismatch: the server races on '" + w->track_name + "', which differs from ours");
         } else if (w->physics_hash != proto::physics_hash(scene_.physics) ||
                    w->tick_rate_hz != scene_.physics.tick_rate_hz) {
             leave("physics settings differ from the server's");
         } else {
             slot_ = w->slot;
+            snapshot_rate_hz_ = std::max<int>(1, w->snapshot_rate_hz);
             state_ = ClientState::in_lobby;
             spdlog::info("{}: welcome, slot {}", config_.name, slot_);
         }
@@ -105,9 +108,15 @@ void RaceClient::on_snapshot(const proto::Snapshot& s) {
     if (slot_ < 0) return;
     if (s.race_number < race_number_) return;  // from a finished race
     if (s.race_number > race_number_) {
+        // A new race: a fresh world whose ticks start again from 0.
         race_number_ = s.race_number;
         for (auto& r : received_) r.first = proto::kNoTick;
         newest_snapshot_tick_ = proto::kNoTick;
+        last_applied_input_tick_ = proto::kNoTick;
+        my_input_ticks_.fill(proto::kNoTick);
+        my_state_ticks_.fill(proto::kNoTick);
+        clock_adjust_ = 0;
+        visual_offset_ = Vec3::Zero();
         have_world_ = false;
     }
     const proto::WorldSnapshot* base = nullptr;
@@ -142,7 +151,8 @@ void RaceClient::on_snapshot(const proto::Snapshot& s) {
         predicted_ = snap.state;
         have_world_ = true;
         const double lead = rtt_ms() * 1000.0 / tick_us_ + config_.target_margin_ticks + 2.0;
-        next_tick_us_ = now_us_ - static_cast<std::uint64_t>(std::min(lead, 60.0) * tick_us_);
+        const auto lead_us = static_cast<std::uint64_t>(std::min(lead, 30.0) * tick_us_);
+        next_tick_us_ = now_us_ > lead_us ? now_us_ - lead_us : 0;
         state_ = ClientState::racing;
         return;
     }
@@ -202,7 +212,8 @@ void RaceClient::adjust_clock(const proto::Snapshot& s) {
     const double error = s.input_margin_ticks - target;
     if (error < -6.0) {
         // Inputs arrive late: jump ahead rather than drift.
-        next_tick_us_ -= static_cast<std::uint64_t>(-error * tick_us_);
+        const auto jump_us = static_cast<std::uint64_t>(std::min(-error, 30.0) * tick_us_);
+        next_tick_us_ = next_tick_us_ > jump_us ? next_tick_us_ - jump_us : 0;
         ++stats_.clock_resyncs;
         clock_adjust_ = 0;
         return;
@@ -278,17 +289,28 @@ Vec3 RaceClient::visual_own_position() const {
 
 Vec3 RaceClient::visual_position(int slot) const {
     const auto s = static_cast<std::size_t>(slot);
-    if (s >= latest_.state.cars.size()) return Vec3::Zero();
-    const Vec3 b = latest_.state.cars[s].position;
-    if (s >= previous_.state.cars.size() || previous_.state.tick >= latest_.state.tick) return b;
-    // Show the car `interpolation_snapshots` intervals behind the newest
-    // snapshot: between the previous and the newest, extrapolating no further.
-    const double span = latest_.state.tick - previous_.state.tick;
-    const double behind = config_.interpolation_snapshots - 1.0;
-    const double f = std::clamp(1.0 - behind, 0.0, 1.0);
-    (void)span;
-    const Vec3 a = previous_.state.cars[s].position;
-    return a + (b - a) * f;
+    if (s >= latest_.state.cars.size() || newest_snapshot_tick_ == proto::kNoTick) return Vec3::Zero();
+    // The render tick trails the newest snapshot by the interpolation delay,
+    // advancing with the client's clock between snapshots.
+    const double interval = static_cast<double>(scene_.physics.tick_rate_hz) / snapshot_rate_hz_;
+    const double since = static_cast<double>(now_us_ - latest_at_us_) / tick_us_;
+    const double render = newest_snapshot_tick_ + since - config_.interpolation_snapshots * interval;
+    // The two stored snapshots around the render tick.
+    const std::pair<std::uint32_t, proto::WorldSnapshot>* a = nullptr;
+    const std::pair<std::uint32_t, proto::WorldSnapshot>* b = nullptr;
+    for (const auto& r : received_) {
+        if (r.first == proto::kNoTick || s >= r.second.state.cars.size() || !r.second.state.cars[s].active) continue;
+        if (r.first <= render && (!a || r.first > a->first)) a = &r;
+        if (r.first > render && (!b || r.first < b->first)) b = &r;
+    }
+    if (a && b) {
+        const double f = (render - a->first) / static_cast<double>(b->first - a->first);
+        const Vec3& pa = a->second.state.cars[s].position;
+        return pa + (b->second.state.cars[s].position - pa) * f;
+    }
+    if (a) return a->second.state.cars[s].position;  // never extrapolate
+    if (b) return b->second.state.cars[s].position;
+    return latest_.state.cars[s].position;
 }
 
 }  // namespace jetrace::client

@@ -20,7 +20,8 @@ std::string validate(const ServerConfig& c, int tick_rate_hz) {
     if (!(c.results_pause_s >= 0 && c.results_pause_s <= 600)) err << "results pause must be in [0, 600] s; ";
     if (!(c.finish_window_s > 0 && c.finish_window_s <= 3600)) err << "finish window must be in (0, 3600] s; ";
     if (!(c.max_race_s > 0 && c.max_race_s <= 86400)) err << "max race time must be in (0, 86400] s; ";
-    if (c.max_input_lead_ticks < 1 || c.max_input_lead_ticks > 200 * 120) err << "max input lead out of range; ";
+    if (c.max_input_lead_ticks < 1 || c.max_input_lead_ticks >= 256)
+        err << "max input lead must be in [1, 255] ticks (the input ring holds 256); ";
     if (!(c.hello_timeout_s > 0 && c.hello_timeout_s <= 600)) err << "hello timeout must be in (0, 600] s; ";
     return err.str();
 }
@@ -55,7 +56,14 @@ void RaceServer::drop(net::PeerId peer, const std::string& reason) {
     auto it = clients_.find(peer);
     if (it == clients_.end()) return;
     spdlog::warn("dropping client {} ({}): {}", peer, it->second.name.empty() ? "no name" : it->second.name, reason);
-    send(peer, net::Channel::reliable, proto::Goodbye{reason.substr(0, proto::kMaxReasonBytes)});
+    std::string text = reason;
+    if (text.size() > proto::kMaxReasonBytes) {
+        // Cut at a character boundary: drop continuation bytes, then the lead byte.
+        text.resize(proto::kMaxReasonBytes);
+        while (!text.empty() && (static_cast<unsigned char>(text.back()) & 0xC0) == 0x80) text.pop_back();
+        if (!text.empty() && (static_cast<unsigned char>(text.back()) & 0x80) != 0) text.pop_back();
+    }
+    send(peer, net::Channel::reliable, proto::Goodbye{text});
     transport_.disconnect(peer);
     const int slot = it->second.slot;
     clients_.erase(it);
@@ -195,8 +203,11 @@ void RaceServer::on_inputs(Client& c, const proto::InputBatch& b) {
             break;
         }
         const auto tick = static_cast<std::uint32_t>(t);
-        // One input per tick: a client sending several for the same tick
-        // (redundancy, or a speed hack) only ever replaces it.
+        // One input per tick, the first one received: redundant copies are
+        // identical, and a client sending different ones for the same tick
+        // (a speed hack, or spoiling the inputs already relayed to the
+        // others as upcoming) changes nothing.
+        if (c.input_ticks[tick % kInputRing] == tick) continue;
         c.inputs[tick % kInputRing] = b.inputs[i];
         c.input_ticks[tick % kInputRing] = tick;
     }

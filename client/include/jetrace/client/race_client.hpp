@@ -86,8 +86,9 @@ public:
     /// Where to draw the own car: the prediction plus a correction offset
     /// that fades out (kept apart from the simulated state).
     Vec3 visual_own_position() const;
-    /// Where to draw another car: interpolated between the two snapshots
-    /// around (newest snapshot time - interpolation delay).
+    /// Where to draw another car: interpolated between the two stored
+    /// snapshots around the render tick, which trails the newest snapshot by
+    /// interpolation_snapshots snapshot intervals (never extrapolated).
     Vec3 visual_position(int slot) const;
 
 private:
@@ -137,6 +138,7 @@ private:
     proto::WorldSnapshot previous_;
     std::uint64_t latest_at_us_ = 0;
     std::uint32_t newest_snapshot_tick_ = proto::kNoTick;
+    int snapshot_rate_hz_ = 60;
 
     Vec3 visual_offset_{0, 0, 0};
     ClientStats stats_;
