@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
@@ -64,6 +65,22 @@ bool same(const jp::Message& a, const jp::Message& b) {
     return std::visit([&](const auto& x) { return same(x, std::get<std::decay_t<decltype(x)>>(b)); }, a);
 }
 
+/// A real world payload (two empty slots) for `tick`, against a baseline at
+/// `base_tick` (kNoTick: none). Snapshot.server_tick is its first field.
+std::vector<std::uint8_t> world_payload(std::uint32_t tick, std::uint32_t base_tick) {
+    jp::WorldSnapshot now{jetrace::make_world(2, 3, 0), std::vector<jetrace::Input>(2), 120, {}};
+    now.state.tick = tick;
+    if (base_tick == jp::kNoTick) return jp::encode_world(now, nullptr);
+    jp::WorldSnapshot base = now;
+    base.state.tick = base_tick;
+    return jp::encode_world(now, &base);
+}
+
+jp::Snapshot snapshot(std::uint32_t tick, std::uint32_t base, std::uint32_t applied, std::int16_t margin,
+                      jp::RacePhase phase, std::uint32_t race) {
+    return jp::Snapshot{tick, base, applied, margin, phase, race, world_payload(tick, base)};
+}
+
 std::vector<std::uint8_t> token(std::uint8_t first) {
     std::vector<std::uint8_t> t(jp::kTokenBytes);
     for (std::size_t i = 0; i < t.size(); ++i) t[i] = static_cast<std::uint8_t>(first + i * 17);
@@ -84,8 +101,17 @@ std::vector<jp::Message> sample_messages() {
     for (int i = 0; i < 64; ++i) batch.inputs.push_back(jetrace::Input::clamped(i % 16, i % 31 - 15, i % 2));
     out.push_back(batch);
     out.push_back(jp::InputBatch{0xFFFFFFFFu, {jetrace::Input::clamped(15, -15, 1)}, jp::kNoTick});
-    out.push_back(jp::Snapshot{5000, 4996, 5003, -3, jp::RacePhase::racing, 2, {1, 2, 3, 255}});
-    out.push_back(jp::Snapshot{7, jp::kNoTick, jp::kNoTick, 32767, jp::RacePhase::finished, 0, {0}});
+    out.push_back(jp::InputBatch{0, {jetrace::Input::clamped(0, 15, 0)}, 0xFFFFFFFEu});
+    out.push_back(jp::InputBatch{0xFFFFFFC0u, std::vector<jetrace::Input>(64, jetrace::Input::clamped(7, 0, 0)), 0});
+    jp::InputBatch runs{1234, {}, 1234};
+    for (int i = 0; i < 20; ++i) runs.inputs.push_back(jetrace::Input::clamped(15, i / 3 - 3, i / 10));
+    out.push_back(runs);
+    out.push_back(snapshot(5000, 4996, 5003, -3, jp::RacePhase::racing, 2));
+    out.push_back(snapshot(7, jp::kNoTick, jp::kNoTick, 32767, jp::RacePhase::finished, 0));
+    out.push_back(snapshot(0xFFFFFFFFu, 0, 0, -32768, jp::RacePhase::lobby, 0xFFFFFFFFu));
+    out.push_back(snapshot(0, jp::kNoTick, 0xFFFFFFFEu, -32767, jp::RacePhase::countdown, 1));
+    out.push_back(snapshot(0xFFFFFFFFu, 0xFFFFFFFEu, 0xFFFFFFFEu, 0, jp::RacePhase::racing, 70000));
+    out.push_back(snapshot(120000, 119998, 119999, 2, jp::RacePhase::racing, 3));
     jp::RaceStatus status{jp::RacePhase::countdown, 3, 12345, 5, {}};
     for (std::uint8_t s = 0; s < 64; ++s) status.players.push_back({static_cast<std::uint8_t>(63 - s), "p", s % 3 == 0});
     out.push_back(status);
@@ -115,10 +141,56 @@ bool decodes(std::span<const std::uint8_t> bytes, std::string* why = nullptr) {
     return ok;
 }
 
-/// Finishes a hand-built envelope (to build messages encode() refuses to).
-std::vector<std::uint8_t> finish(fb::FlatBufferBuilder& b, w::Body type, fb::Offset<void> body) {
+/// The file identifier of each message (docs/PROTOCOL.md, "Messages"), in
+/// the order of jp::Message's alternatives.
+const char* const kIds[] = {"JTR1", "JWLC", "JTR1", "JINP", "JSNP", "JRST", "JRES", "JBYE"};
+
+/// Finishes a hand-built message (to build messages encode() refuses to),
+/// with the builder's padding.
+template <typename T>
+std::vector<std::uint8_t> finish(fb::FlatBufferBuilder& b, fb::Offset<T> root, const char* id) {
+    b.Finish(root, id);
+    return {b.GetBufferPointer(), b.GetBufferPointer() + b.GetSize()};
+}
+
+/// Hello and Refuse: a hand-built Envelope.
+std::vector<std::uint8_t> envelope(fb::FlatBufferBuilder& b, w::Handshake type, fb::Offset<void> body) {
     w::FinishEnvelopeBuffer(b, w::CreateEnvelope(b, type, body));
     return {b.GetBufferPointer(), b.GetBufferPointer() + b.GetSize()};
+}
+
+/// An independent writer of the bit conventions (docs/PROTOCOL.md, "Bit
+/// conventions"), to build payloads by hand.
+struct Bits {
+    std::vector<bool> v;
+    Bits& u(std::uint64_t x, int n) {
+        for (int i = n - 1; i >= 0; --i) v.push_back(((x >> i) & 1u) != 0);
+        return *this;
+    }
+    Bits& ue(std::uint64_t x, int k) {
+        const std::uint64_t y = x + (std::uint64_t{1} << k);
+        const int width = static_cast<int>(std::bit_width(y));
+        return u(0, width - 1 - k).u(y, width);
+    }
+    Bits& se(std::int64_t x, int k) {
+        return ue(x >= 0 ? static_cast<std::uint64_t>(x) * 2 : static_cast<std::uint64_t>(-x) * 2 - 1, k);
+    }
+    std::vector<std::uint8_t> bytes(std::uint8_t padding = 0) const {
+        std::vector<std::uint8_t> out((v.size() + 7) / 8, 0);
+        for (std::size_t i = 0; i < v.size(); ++i)
+            if (v[i]) out[i / 8] |= static_cast<std::uint8_t>(0x80u >> (i % 8));
+        if (v.size() % 8 != 0) out.back() |= static_cast<std::uint8_t>(padding & ((1u << (8 - v.size() % 8)) - 1));
+        return out;
+    }
+};
+
+std::vector<std::uint8_t> input_batch(const std::vector<std::uint8_t>& payload) {
+    fb::FlatBufferBuilder b;
+    return finish(b, w::CreateInputBatch(b, b.CreateVector(payload)), "JINP");
+}
+std::vector<std::uint8_t> snapshot_message(const std::vector<std::uint8_t>& payload) {
+    fb::FlatBufferBuilder b;
+    return finish(b, w::CreateSnapshot(b, b.CreateVector(payload)), "JSNP");
 }
 
 }  // namespace
@@ -179,14 +251,22 @@ TEST(ProtoMessages, RandomBytesNeverCrash) {
             // Pure noise, often with the right identifier to reach the verifier.
             buf.resize(1 + rng() % 300);
             for (auto& b : buf) b = static_cast<std::uint8_t>(rng());
-            if (buf.size() >= 8 && (rng() & 1)) std::copy_n("JTR1", 4, buf.begin() + 4);
+            if (buf.size() >= 8 && (rng() & 1)) std::copy_n(kIds[rng() % std::size(kIds)], 4, buf.begin() + 4);
         } else {
             // A valid message with a few bytes changed.
             buf = jp::encode(samples[rng() % samples.size()]);
             const int flips = 1 + static_cast<int>(rng() % 4);
             for (int f = 0; f < flips; ++f) buf[rng() % buf.size()] = static_cast<std::uint8_t>(rng());
         }
-        accepted += decodes(buf) ? 1 : 0;  // must simply not crash
+        jp::Message m;
+        std::string error;
+        if (!jp::decode(buf, m, error)) continue;
+        ++accepted;
+        // Whatever decodes is in range: it encodes (encode asserts the same
+        // rules) and decodes to the same message.
+        jp::Message again;
+        EXPECT_TRUE(jp::decode(jp::encode(m), again, error)) << error;
+        EXPECT_TRUE(same(m, again)) << "iteration " << i;
     }
     std::cout << "[ info ] mutated/random messages accepted: " << accepted << " of 10000\n";
 }
@@ -202,50 +282,36 @@ TEST(ProtoMessages, RejectsOutOfRangeFields) {
         fb::FlatBufferBuilder b;
         auto n = b.CreateString(name);
         auto t = b.CreateVector(tok);
-        return finish(b, w::Body_Hello, w::CreateHello(b, 1, n, t).Union());
+        return envelope(b, w::Handshake_Hello, w::CreateHello(b, 1, n, t).Union());
     };
     rejects(hello(std::string(33, 'n'), {}), "Hello.name");
     rejects(hello("bad\x01", {}), "Hello.name");
     rejects(hello("bad\xff", {}), "Hello.name");
     rejects(hello("\xc0\xaf", {}), "Hello.name");  // overlong '/'
     rejects(hello("ok", std::vector<std::uint8_t>(5, 1)), "Hello.reconnect_token");
+    EXPECT_TRUE(decodes(hello("ok", {})));
     {  // Hello without its required name
         fb::FlatBufferBuilder b;
         const auto start = b.StartTable();
         b.AddElement<std::uint16_t>(w::Hello::VT_PROTOCOL_VERSION, 1, 0);
-        const fb::Offset<void> body(b.EndTable(start));
-        EXPECT_FALSE(decodes(finish(b, w::Body_Hello, body), &why));
+        EXPECT_FALSE(decodes(envelope(b, w::Handshake_Hello, fb::Offset<void>(b.EndTable(start))), &why));
     }
-    auto batch = [](std::vector<std::uint16_t> inputs, std::uint32_t first = 0) {
+    {  // InputBatch and Snapshot without their required payload
         fb::FlatBufferBuilder b;
-        auto v = b.CreateVector(inputs);
-        return finish(b, w::Body_InputBatch, w::CreateInputBatch(b, first, v, 0).Union());
-    };
-    rejects(batch(std::vector<std::uint16_t>(65, 0)), "InputBatch.inputs");
-    rejects(batch({}), "InputBatch.inputs");
-    rejects(batch({1, 1024}), "InputBatch.inputs");
-    rejects(batch({1, 2}, 0xFFFFFFFFu), "InputBatch.first_tick");
-    EXPECT_TRUE(decodes(batch({1023})));
+        EXPECT_FALSE(decodes(finish(b, fb::Offset<w::InputBatch>(b.EndTable(b.StartTable())), "JINP"), &why));
+        fb::FlatBufferBuilder b2;
+        EXPECT_FALSE(decodes(finish(b2, fb::Offset<w::Snapshot>(b2.EndTable(b2.StartTable())), "JSNP"), &why));
+    }
     auto welcome = [](std::uint8_t slot, std::uint8_t max, std::uint16_t rate, std::uint16_t snap) {
         fb::FlatBufferBuilder b;
         auto name = b.CreateString("ring");
-        return finish(b, w::Body_Welcome,
-                      w::CreateWelcome(b, 1, slot, max, rate, snap, name, 0, 0, 0, 0).Union());
+        return finish(b, w::CreateWelcome(b, 1, slot, max, rate, snap, name, 0, 0, 0, 0), "JWLC");
     };
     rejects(welcome(64, 64, 120, 60), "Welcome.slot");
     rejects(welcome(0, 65, 120, 60), "Welcome.max_players");
     rejects(welcome(0, 0, 120, 60), "Welcome.max_players");
     rejects(welcome(0, 8, 0, 60), "Welcome.tick_rate_hz");
     rejects(welcome(0, 8, 120, 10001), "Welcome.snapshot_rate_hz");
-    auto snapshot = [](std::uint8_t phase, std::uint32_t tick, std::uint32_t base) {
-        fb::FlatBufferBuilder b;
-        auto world = b.CreateVector(std::vector<std::uint8_t>{1});
-        return finish(b, w::Body_Snapshot,
-                      w::CreateSnapshot(b, tick, base, 0, 0, static_cast<w::RacePhase>(phase), 0, world).Union());
-    };
-    rejects(snapshot(4, 10, 5), "Snapshot.phase");
-    rejects(snapshot(255, 10, 5), "Snapshot.phase");
-    rejects(snapshot(2, 10, 11), "Snapshot.baseline_tick");
     auto status = [](std::vector<std::uint8_t> slots, std::uint8_t spectating = 0) {
         fb::FlatBufferBuilder b;
         std::vector<fb::Offset<w::PlayerInfo>> players;
@@ -258,7 +324,7 @@ TEST(ProtoMessages, RejectsOutOfRangeFields) {
             players.push_back(fb::Offset<w::PlayerInfo>(b.EndTable(start)));
         }
         auto list = b.CreateVector(players);
-        return finish(b, w::Body_RaceStatus, w::CreateRaceStatus(b, w::RacePhase_Racing, 1, 0, 3, list).Union());
+        return finish(b, w::CreateRaceStatus(b, w::RacePhase_Racing, 1, 0, 3, list), "JRST");
     };
     rejects(status({0, 64}), "RaceStatus.players[1].slot");
     rejects(status({3, 3}), "RaceStatus.players[1].slot");
@@ -270,25 +336,185 @@ TEST(ProtoMessages, RejectsOutOfRangeFields) {
         fb::FlatBufferBuilder b;
         auto e = w::CreateStandingEntry(b, 0, b.CreateString("x"), true, 1, time);
         auto list = b.CreateVector(std::vector<fb::Offset<w::StandingEntry>>{e});
-        return finish(b, w::Body_Results, w::CreateResults(b, 1, list, 0).Union());
+        return finish(b, w::CreateResults(b, 1, list, 0), "JRES");
     };
     rejects(results(std::numeric_limits<double>::quiet_NaN()), "finish_time_s");
     rejects(results(std::numeric_limits<double>::infinity()), "finish_time_s");
     rejects(results(-1.0), "finish_time_s");
     EXPECT_TRUE(decodes(results(12.5)));
-    {  // unknown union member, and no body at all
+    {  // a message under another message's identifier
         fb::FlatBufferBuilder b;
         auto r = w::CreateGoodbye(b, b.CreateString("x"));
-        rejects(finish(b, static_cast<w::Body>(9), r.Union()), "Envelope.body_type");
+        EXPECT_FALSE(decodes(finish(b, r, "JRES"), &why));
+    }
+    {  // an Envelope holds only Hello or Refuse
+        fb::FlatBufferBuilder b;
+        auto r = w::CreateGoodbye(b, b.CreateString("x"));
+        rejects(envelope(b, static_cast<w::Handshake>(2), r.Union()), "Envelope.body_type");
         fb::FlatBufferBuilder b2;
-        auto r2 = w::CreateGoodbye(b2, b2.CreateString("x"));
-        rejects(finish(b2, w::Body_NONE, r2.Union()), "Envelope.body_type");
+        auto r2 = w::CreateRefuse(b2, b2.CreateString("x"));
+        rejects(envelope(b2, w::Handshake_NONE, r2.Union()), "Envelope.body_type");
+    }
+    {  // Welcome's table under Welcome's identifier but with the builder's padding: accepted
+        fb::FlatBufferBuilder b;
+        auto name = b.CreateString("ring");
+        EXPECT_TRUE(decodes(finish(b, w::CreateWelcome(b, 2, 0, 8, 120, 60, name, 0, 0, 0, 0), "JWLC")));
     }
     {  // a long reason
         fb::FlatBufferBuilder b;
         auto r = w::CreateRefuse(b, b.CreateString(std::string(257, 'x')));
-        rejects(finish(b, w::Body_Refuse, r.Union()), "Refuse.reason");
+        rejects(envelope(b, w::Handshake_Refuse, r.Union()), "Refuse.reason");
     }
+}
+
+TEST(ProtoMessages, HelloAndRefuseAreThoseOfVersion1) {
+    // Bytes protocol version 1 produced: every version reads the other's
+    // Hello, and a server answers a version mismatch with a Refuse the
+    // client can read.
+    const std::vector<std::uint8_t> hello_v1 = {
+        0x10, 0x00, 0x00, 0x00, 0x4a, 0x54, 0x52, 0x31, 0x08, 0x00, 0x0c, 0x00, 0x07, 0x00, 0x08, 0x00, 0x08, 0x00, 0x00,
+        0x00, 0x00, 0x00, 0x00, 0x01, 0x0c, 0x00, 0x00, 0x00, 0x08, 0x00, 0x0c, 0x00, 0x06, 0x00, 0x08, 0x00, 0x08, 0x00,
+        0x00, 0x00, 0x00, 0x00, 0x01, 0x00, 0x04, 0x00, 0x00, 0x00, 0x06, 0x00, 0x00, 0x00, 0x41, 0x79, 0x72, 0x74, 0x6f,
+        0x6e, 0x00, 0x00};
+    const std::vector<std::uint8_t> refuse_v1 = {
+        0x10, 0x00, 0x00, 0x00, 0x4a, 0x54, 0x52, 0x31, 0x08, 0x00, 0x0e, 0x00, 0x07, 0x00, 0x08, 0x00, 0x08, 0x00, 0x00,
+        0x00, 0x00, 0x00, 0x00, 0x03, 0x0c, 0x00, 0x00, 0x00, 0x00, 0x00, 0x06, 0x00, 0x08, 0x00, 0x04, 0x00, 0x06, 0x00,
+        0x00, 0x00, 0x04, 0x00, 0x00, 0x00, 0x32, 0x00, 0x00, 0x00, 0x70, 0x72, 0x6f, 0x74, 0x6f, 0x63, 0x6f, 0x6c, 0x20,
+        0x76, 0x65, 0x72, 0x73, 0x69, 0x6f, 0x6e, 0x20, 0x32, 0x20, 0x6e, 0x6f, 0x74, 0x20, 0x73, 0x75, 0x70, 0x70, 0x6f,
+        0x72, 0x74, 0x65, 0x64, 0x20, 0x28, 0x73, 0x65, 0x72, 0x76, 0x65, 0x72, 0x20, 0x73, 0x70, 0x65, 0x61, 0x6b, 0x73,
+        0x20, 0x31, 0x29, 0x00, 0x00};
+    const jp::Hello hello{1, "Ayrton", {}};
+    const jp::Refuse refuse{"protocol version 2 not supported (server speaks 1)"};
+    EXPECT_EQ(jp::encode(hello), hello_v1);
+    EXPECT_EQ(jp::encode(refuse), refuse_v1);
+    jp::Message m;
+    std::string error;
+    ASSERT_TRUE(jp::decode(hello_v1, m, error)) << error;
+    EXPECT_TRUE(same(m, jp::Message{hello}));
+    ASSERT_TRUE(jp::decode(refuse_v1, m, error)) << error;
+    EXPECT_TRUE(same(m, jp::Message{refuse}));
+}
+
+TEST(ProtoMessages, RejectsBadInputBatchPayloads) {
+    std::string why;
+    auto rejects = [&](const Bits& payload, const char* field, std::uint8_t padding = 0) {
+        EXPECT_FALSE(decodes(input_batch(payload.bytes(padding)), &why)) << field;
+        EXPECT_NE(why.find(field), std::string::npos) << "error '" << why << "' does not name " << field;
+    };
+    // first_tick ue(14), count - 1 u(6), ack: 1 bit + se(0) of first_tick - ack,
+    // then u(10), and per further input 1 bit "same" or 0 + u(10).
+    const std::uint16_t in = jetrace::Input::clamped(15, 15, 1).pack();
+    const Bits ok = Bits{}.ue(5, 14).u(1, 6).u(1, 1).se(0, 0).u(in, 10).u(0, 1).u(3, 10);
+    ASSERT_TRUE(decodes(input_batch(ok.bytes()), &why)) << why;
+    jp::Message m;
+    ASSERT_TRUE(jp::decode(input_batch(ok.bytes()), m, why));
+    EXPECT_TRUE(same(m, jp::Message{jp::InputBatch{5, {jetrace::Input::unpack(in), jetrace::Input::unpack(3)}, 5}}));
+    EXPECT_TRUE(decodes(input_batch(Bits{}.ue(5, 14).u(2, 6).u(0, 1).u(in, 10).u(1, 1).u(1, 1).bytes())));
+    rejects(Bits{}.ue(0x100000000ull, 14).u(0, 6).u(0, 1).u(in, 10), "InputBatch.first_tick");
+    rejects(Bits{}.ue(0xFFFFFFFFu, 14).u(1, 6).u(0, 1).u(in, 10).u(1, 1), "InputBatch.first_tick");  // overflows
+    rejects(Bits{}.ue(5, 14).u(0, 6).u(1, 1).se(6, 0).u(in, 10), "InputBatch.ack_snapshot_tick");  // tick -1
+    rejects(Bits{}.ue(5, 14).u(0, 6).u(1, 1).se(5 - 0xFFFFFFFFll, 0).u(in, 10), "InputBatch.ack_snapshot_tick");
+    rejects(Bits{}.ue(5, 14).u(0, 6).u(0, 1).u(0x1F0, 10), "InputBatch.inputs");  // steer bits 31
+    rejects(Bits{}.ue(5, 14).u(2, 6).u(0, 1).u(in, 10).u(1, 1), "InputBatch.inputs");  // one input short
+    rejects(Bits{}.ue(5, 14).u(0, 6).u(0, 1).u(in, 10).u(0, 8), "InputBatch.payload");  // trailing byte
+    rejects(Bits{}.ue(5, 14).u(1, 6).u(0, 1).u(in, 10).u(1, 1), "InputBatch.payload", 1);  // padding bit set
+    rejects(Bits{}, "InputBatch.first_tick");  // empty
+}
+
+TEST(ProtoMessages, RejectsBadSnapshotPayloads) {
+    std::string why;
+    auto rejects = [&](const Bits& header, const std::vector<std::uint8_t>& world, const char* field,
+                       std::uint8_t padding = 0) {
+        std::vector<std::uint8_t> payload = header.bytes(padding);
+        payload.insert(payload.end(), world.begin(), world.end());
+        EXPECT_FALSE(decodes(snapshot_message(payload), &why)) << field;
+        EXPECT_NE(why.find(field), std::string::npos) << "error '" << why << "' does not name " << field;
+    };
+    // phase u(2), baseline 1 bit + ue(14), last applied 1 bit + se(0) of
+    // server_tick - 1 - tick, margin ue(3), race_number ue(2); zero padding
+    // to a byte; the world payload, whose first field gives server_tick.
+    const auto world = world_payload(100, 98);
+    const auto fresh = world_payload(100, jp::kNoTick);
+    auto header = [](std::uint64_t phase, std::uint64_t base, std::int64_t applied, std::uint64_t margin) {
+        return Bits{}.u(phase, 2).u(1, 1).ue(base, 14).u(1, 1).se(applied, 0).ue(margin, 3).ue(4, 2);
+    };
+    for (std::uint64_t phase = 0; phase < 4; ++phase) {
+        std::vector<std::uint8_t> payload = header(phase, 98, 0, 0).bytes();
+        payload.insert(payload.end(), world.begin(), world.end());
+        jp::Message m;
+        ASSERT_TRUE(jp::decode(snapshot_message(payload), m, why)) << why;
+        EXPECT_TRUE(same(m, jp::Message{jp::Snapshot{100, 98, 99, -32768, static_cast<jp::RacePhase>(phase), 4, world}}));
+    }
+    {  // margin: 0 is -32768, else zigzag + 1
+        std::vector<std::uint8_t> payload = header(2, 98, 0, 6).bytes();
+        payload.insert(payload.end(), world.begin(), world.end());
+        jp::Message m;
+        ASSERT_TRUE(jp::decode(snapshot_message(payload), m, why)) << why;
+        EXPECT_EQ(std::get<jp::Snapshot>(m).input_margin_ticks, -3);
+    }
+    rejects(header(2, 0xFFFFFFFFu, 0, 1), world, "Snapshot.baseline_tick");  // kNoTick is "none"
+    rejects(header(2, 0x100000000ull, 0, 1), world, "Snapshot.baseline_tick");
+    rejects(header(2, 98, 100, 1), world, "Snapshot.last_applied_input_tick");  // tick -1
+    rejects(header(2, 98, 100 - 0x100000000ll, 1), world, "Snapshot.last_applied_input_tick");  // kNoTick
+    rejects(header(2, 98, 0, 65536), world, "Snapshot.input_margin_ticks");
+    rejects(Bits{}.u(2, 2).u(0, 1).u(0, 1).ue(1, 3).ue(0x100000000ull, 2), fresh, "Snapshot.race_number");
+    rejects(header(2, 98, 0, 1), world, "Snapshot.payload", 1);  // padding bit set
+    rejects(header(2, 98, 0, 1), {}, "Snapshot.world");  // no world
+    rejects(Bits{}.u(2, 2).u(0, 1).u(0, 1).ue(1, 3).ue(1, 2), {0, 0, 1}, "Snapshot.world");  // 24-bit tick
+    rejects(header(2, 0xFFFFFFFEu, 0, 1), world, "Snapshot.world");  // tick past 2^32 - 1
+    rejects(Bits{}, {}, "Snapshot.phase");  // empty
+}
+
+TEST(ProtoMessages, IdentifiersAndSizes) {
+    const auto samples = sample_messages();
+    for (const jp::Message& m : samples) {
+        const auto bytes = jp::encode(m);
+        EXPECT_EQ(std::string(bytes.begin() + 4, bytes.begin() + 8), kIds[m.index()]) << "message " << m.index();
+    }
+    // The two frequent messages: 28 bytes of flatbuffers (root offset,
+    // identifier, vtable, table, vector length), then the packed payload.
+    jp::Snapshot s{5000, 4998, 4999, 3, jp::RacePhase::racing, 1, std::vector<std::uint8_t>(60, 0x5A)};
+    s.world[0] = 0xC0;  // ue(2) of 2: server_tick = baseline_tick + 2
+    const std::size_t snapshot = jp::encode(s).size();
+    EXPECT_EQ(snapshot, 28u + 4u + 60u);  // header: 2 + 16 + 2 + 4 + 3 bits
+    std::cout << "[ info ] Snapshot with a 60-byte world: " << snapshot << " bytes\n";
+    RecordProperty("snapshot_bytes_world60", std::to_string(snapshot));
+    for (std::size_t n : {1u, 6u, 20u}) {
+        jp::InputBatch same_inputs{5010, std::vector<jetrace::Input>(n, jetrace::Input::clamped(15, 3, 0)), 5010};
+        jp::InputBatch varied = same_inputs;
+        for (std::size_t i = 0; i < n; ++i) varied.inputs[i] = jetrace::Input::clamped(15, static_cast<int>(i * 7 % 31) - 15, 0);
+        const std::size_t a = jp::encode(same_inputs).size(), b = jp::encode(varied).size();
+        // 15 + 6 + 2 bits, 10 bits for the first input, 1 or 11 per other.
+        EXPECT_EQ(a, 28u + (23 + 10 + (n - 1) + 7) / 8);
+        EXPECT_EQ(b, 28u + (23 + 10 + 11 * (n - 1) + 7) / 8);
+        std::cout << "[ info ] InputBatch with " << n << " inputs: " << a << " bytes (all equal), " << b
+                  << " (all different)\n";
+        RecordProperty("input_batch_bytes_" + std::to_string(n), std::to_string(a) + "/" + std::to_string(b));
+    }
+}
+
+TEST(ProtoMessages, RandomPayloadsNeverCrash) {
+    // Random bits inside valid InputBatch and Snapshot tables reach the
+    // payload decoders; whatever decodes encodes to the same message.
+    std::mt19937_64 rng(test_seed() + 1);
+    int accepted[2] = {0, 0};
+    for (int i = 0; i < 10000; ++i) {
+        std::vector<std::uint8_t> payload(1 + rng() % 24);
+        for (auto& b : payload) b = static_cast<std::uint8_t>(rng() & rng());  // mostly zero bits: short codes
+        const bool snap = (i & 1) != 0;
+        jp::Message m;
+        std::string error;
+        if (!jp::decode(snap ? snapshot_message(payload) : input_batch(payload), m, error)) {
+            EXPECT_FALSE(error.empty());
+            continue;
+        }
+        ++accepted[snap ? 1 : 0];
+        jp::Message again;
+        EXPECT_TRUE(jp::decode(jp::encode(m), again, error)) << error;
+        EXPECT_TRUE(same(m, again)) << "iteration " << i;
+    }
+    std::cout << "[ info ] random payloads accepted: " << accepted[0] << " InputBatch, " << accepted[1]
+              << " Snapshot of 5000 each\n";
 }
 
 TEST(ProtoMessages, PhysicsHashCoversEveryField) {
@@ -346,7 +572,7 @@ const Race& ring_race() {
         std::vector<jetrace::Input> inputs(8);
         int after_finish = 0;
         for (std::uint32_t t = 0; t < 6000 && after_finish < 120; ++t) {
-            r->history.push_back({st, inputs, 120});
+            r->history.push_back({st, inputs, 120, {}});
             if (t == 500) jetrace::remove_car(st, 7);
             if (t == 700) jetrace::spawn_car(r->scene, st, 7, 7);
             bool all_done = true;
@@ -500,7 +726,7 @@ TEST(ProtoWorld, RandomAndMutatedPayloadsNeverCrash) {
 }
 
 TEST(ProtoWorld, ExtremeFieldValuesRoundTrip) {
-    jp::WorldSnapshot a{jetrace::make_world(4, 65535, 0xFFFFFFF0u), std::vector<jetrace::Input>(4), 10000};
+    jp::WorldSnapshot a{jetrace::make_world(4, 65535, 0xFFFFFFF0u), std::vector<jetrace::Input>(4), 10000, {}};
     a.state.tick = 0xFFFFFFF0u;
     jetrace::CarState& c = a.state.cars[0];
     c.active = true;
@@ -543,6 +769,17 @@ TEST(ProtoWorld, ExtremeFieldValuesRoundTrip) {
     std::size_t active = 0;
     for (const auto& car : b.state.cars) active += car.active ? 1 : 0;
     EXPECT_EQ(jp::encode_world(b, &b).size(), (12 + b.state.cars.size() + 3 * active + 7) / 8);
+}
+
+TEST(ProtoWorld, RejectsInputsThatPackNeverProduces) {
+    // No baseline: tick, tick rate, start tick, laps, one inactive slot whose
+    // last input has steer bits 31 (steer +16).
+    const auto payload = Bits{}.u(7, 32).u(120, 16).u(0, 32).u(1, 16).u(1, 7).u(0, 1).u(0, 1);
+    jp::WorldSnapshot out;
+    std::string error;
+    EXPECT_TRUE(jp::decode_world(Bits{payload}.u(0x1E0, 10).bytes(), nullptr, out, error)) << error;
+    EXPECT_FALSE(jp::decode_world(Bits{payload}.u(0x1F0, 10).bytes(), nullptr, out, error));
+    EXPECT_NE(error.find("last input"), std::string::npos) << error;
 }
 
 TEST(ProtoWorld, UpcomingInputsRoundTrip) {

@@ -108,4 +108,15 @@ bool BitReader::only_padding_left() const {
     return (data_.back() & mask) == 0;
 }
 
+bool BitReader::skip_padding() {
+    const int n = static_cast<int>((8 - (pos_ & 7)) & 7);
+    std::uint64_t v = 0;
+    if (!get(n, v)) return false;  // cannot happen: the byte is there
+    if (v != 0) {
+        error_ = "non-zero padding";
+        return false;
+    }
+    return true;
+}
+
 }  // namespace jetrace::proto::bits

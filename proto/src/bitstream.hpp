@@ -1,6 +1,6 @@
 // A most-significant-bit-first bit writer and a bounds-checked bit reader
-// with exp-Golomb codes, for the world payload (docs/PROTOCOL.md, "World
-// payload"). Internal to jetrace::proto.
+// with exp-Golomb codes, for the bit-packed payloads (docs/PROTOCOL.md,
+// "Bit conventions"). Internal to jetrace::proto.
 #pragma once
 
 #include <cstddef>
@@ -56,6 +56,11 @@ public:
     /// True if the rest of the data is fewer than 8 zero bits (the padding of
     /// the last byte).
     bool only_padding_left() const;
+    /// Consumes the bits up to the next byte boundary (none if already
+    /// there); false if one of them is set.
+    bool skip_padding();
+    /// The bytes not yet read, from the next byte boundary on.
+    std::span<const std::uint8_t> rest_bytes() const { return data_.subspan((pos_ + 7) / 8); }
     const char* error() const { return error_; }
 
 private:

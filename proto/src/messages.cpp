@@ -1,15 +1,19 @@
 // Messages <-> flatbuffers (schema: proto/jetrace.fbs). The rules decode()
-// enforces are listed in docs/PROTOCOL.md, section "Validation"; encode()
-// asserts the same rules, so whatever it produces decodes.
+// enforces are listed in docs/PROTOCOL.md, sections "Messages" and
+// "Validation"; encode() asserts the same rules, so whatever it produces
+// decodes. InputBatch and Snapshot, the two messages sent many times a
+// second, pack their fields into one bit-packed [ubyte] payload.
 #include "jetrace/proto/messages.hpp"
 
 #include "jetrace_generated.h"
+#include "packed_payloads.hpp"
 
 #include <bit>
 #include <cassert>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <iterator>
 #include <type_traits>
 
 namespace jetrace::proto {
@@ -22,7 +26,32 @@ namespace w = jetrace::wire;
 /// Longest track name in Welcome (unit: bytes of UTF-8).
 constexpr std::size_t kMaxTrackNameBytes = 256;
 constexpr int kMaxRateHz = 10000;
-constexpr int kMaxInputBits = 10;
+
+/// The root table and file identifier of each message but Hello and Refuse
+/// (the `id` attributes in jetrace.fbs).
+template <typename M>
+struct Wire;
+// clang-format off
+template <> struct Wire<Welcome> { using Table = w::Welcome; static constexpr const char* kId = "JWLC"; };
+template <> struct Wire<InputBatch> { using Table = w::InputBatch; static constexpr const char* kId = "JINP"; };
+template <> struct Wire<Snapshot> { using Table = w::Snapshot; static constexpr const char* kId = "JSNP"; };
+template <> struct Wire<RaceStatus> { using Table = w::RaceStatus; static constexpr const char* kId = "JRST"; };
+template <> struct Wire<Results> { using Table = w::Results; static constexpr const char* kId = "JRES"; };
+template <> struct Wire<Goodbye> { using Table = w::Goodbye; static constexpr const char* kId = "JBYE"; };
+// clang-format on
+
+/// flatbuffers::Verifier over the whole buffer as root table T with file
+/// identifier `id`: every offset, vector, string and table inside it,
+/// alignment checked, depth and table count bounded.
+template <typename T>
+bool verifies(const std::uint8_t* data, std::size_t size, const char* id) {
+    fb::Verifier::Options opts;
+    opts.max_depth = 8;
+    opts.max_tables = 256;
+    opts.check_alignment = true;
+    fb::Verifier verifier(data, size, opts);
+    return verifier.VerifyBuffer<T>(id);
+}
 
 /// Valid UTF-8 (no overlong forms, surrogates or code points above
 /// U+10FFFF) without control characters (C0, DEL, C1).
@@ -64,6 +93,7 @@ bool clean_utf8(std::string_view s) {
 class Check {
 public:
     explicit Check(std::string& error) : error_(error) {}
+    std::string& error() { return error_; }
     bool fail(const std::string& field, const char* what) {
         error_ = field + ": " + what;
         return false;
@@ -125,50 +155,61 @@ fb::Offset<fb::Vector<std::uint8_t>> token(fb::FlatBufferBuilder& b, const std::
     return t.empty() ? 0 : b.CreateVector(t);
 }
 
+/// Finishes the buffer with the message's identifier, without the
+/// builder's trailing alignment padding: the shortest prefix that still
+/// verifies (the same offsets, so the same alignment). Verification only
+/// grows more lenient with size, so every shorter prefix fails it: a
+/// truncated message never decodes.
+template <typename M>
+std::vector<std::uint8_t> finish(fb::FlatBufferBuilder& b, fb::Offset<typename Wire<M>::Table> root) {
+    using T = typename Wire<M>::Table;
+    b.Finish(root, Wire<M>::kId);
+    const std::uint8_t* p = b.GetBufferPointer();
+    std::size_t size = b.GetSize();
+    assert(verifies<T>(p, size, Wire<M>::kId) && "encode: the builder's buffer does not verify");
+    while (size > 0 && verifies<T>(p, size - 1, Wire<M>::kId)) --size;
+    assert(size <= kMaxMessageBytes && "encode: message too large");
+    return {p, p + size};
+}
+
+/// Hello and Refuse: an Envelope exactly as protocol version 1 built it,
+/// padding included (version 1 requires a length that is a multiple of 4).
+std::vector<std::uint8_t> finish_envelope(fb::FlatBufferBuilder& b, w::Handshake type, fb::Offset<void> body) {
+    w::FinishEnvelopeBuffer(b, w::CreateEnvelope(b, type, body));
+    return {b.GetBufferPointer(), b.GetBufferPointer() + b.GetSize()};
+}
+
 struct Encoder {
     fb::FlatBufferBuilder& b;
 
-    std::pair<w::Body, fb::Offset<void>> operator()(const Hello& m) const {
+    std::vector<std::uint8_t> operator()(const Hello& m) const {
         assert_text(m.name, kMaxNameBytes);
         const auto name = b.CreateString(m.name);
         const auto tok = token(b, m.reconnect_token);
-        return {w::Body_Hello, w::CreateHello(b, m.protocol_version, name, tok).Union()};
+        return finish_envelope(b, w::Handshake_Hello, w::CreateHello(b, m.protocol_version, name, tok).Union());
     }
-    std::pair<w::Body, fb::Offset<void>> operator()(const Welcome& m) const {
+    std::vector<std::uint8_t> operator()(const Welcome& m) const {
         assert(m.max_players >= 1 && m.max_players <= kMaxSlots && m.slot < m.max_players);
         assert(m.tick_rate_hz >= 1 && m.tick_rate_hz <= kMaxRateHz);
         assert(m.snapshot_rate_hz >= 1 && m.snapshot_rate_hz <= kMaxRateHz);
         assert_text(m.track_name, kMaxTrackNameBytes);
         const auto track = b.CreateString(m.track_name);
         const auto tok = token(b, m.reconnect_token);
-        return {w::Body_Welcome, w::CreateWelcome(b, m.protocol_version, m.slot, m.max_players, m.tick_rate_hz,
-                                                  m.snapshot_rate_hz, track, m.track_identity, m.physics_hash,
-                                                  m.server_tick, tok)
-                                     .Union()};
+        return finish<Welcome>(b, w::CreateWelcome(b, m.protocol_version, m.slot, m.max_players, m.tick_rate_hz,
+                                                   m.snapshot_rate_hz, track, m.track_identity, m.physics_hash,
+                                                   m.server_tick, tok));
     }
-    std::pair<w::Body, fb::Offset<void>> operator()(const Refuse& m) const {
+    std::vector<std::uint8_t> operator()(const Refuse& m) const {
         assert_text(m.reason, kMaxReasonBytes);
-        return {w::Body_Refuse, w::CreateRefuse(b, b.CreateString(m.reason)).Union()};
+        return finish_envelope(b, w::Handshake_Refuse, w::CreateRefuse(b, b.CreateString(m.reason)).Union());
     }
-    std::pair<w::Body, fb::Offset<void>> operator()(const InputBatch& m) const {
-        assert(!m.inputs.empty() && m.inputs.size() <= kMaxInputsPerBatch);
-        assert(m.inputs.size() - 1 <= std::uint64_t{0xFFFFFFFFu} - m.first_tick);
-        std::vector<std::uint16_t> packed;
-        packed.reserve(m.inputs.size());
-        for (const Input& in : m.inputs) packed.push_back(in.pack());
-        const auto inputs = b.CreateVector(packed);
-        return {w::Body_InputBatch, w::CreateInputBatch(b, m.first_tick, inputs, m.ack_snapshot_tick).Union()};
+    std::vector<std::uint8_t> operator()(const InputBatch& m) const {
+        return finish<InputBatch>(b, w::CreateInputBatch(b, b.CreateVector(packed::pack(m))));
     }
-    std::pair<w::Body, fb::Offset<void>> operator()(const Snapshot& m) const {
-        assert(!m.world.empty() && m.world.size() <= kMaxMessageBytes);
-        assert(m.baseline_tick == kNoTick || m.baseline_tick <= m.server_tick);
-        const auto world = b.CreateVector(m.world);
-        return {w::Body_Snapshot,
-                w::CreateSnapshot(b, m.server_tick, m.baseline_tick, m.last_applied_input_tick, m.input_margin_ticks,
-                                  static_cast<w::RacePhase>(m.phase), m.race_number, world)
-                    .Union()};
+    std::vector<std::uint8_t> operator()(const Snapshot& m) const {
+        return finish<Snapshot>(b, w::CreateSnapshot(b, b.CreateVector(packed::pack(m))));
     }
-    std::pair<w::Body, fb::Offset<void>> operator()(const RaceStatus& m) const {
+    std::vector<std::uint8_t> operator()(const RaceStatus& m) const {
         assert(m.players.size() <= static_cast<std::size_t>(kMaxSlots) && m.laps >= 1);
         std::vector<fb::Offset<w::PlayerInfo>> players;
         for (const PlayerInfo& p : m.players) {
@@ -177,11 +218,10 @@ struct Encoder {
             players.push_back(w::CreatePlayerInfo(b, p.slot, b.CreateString(p.name), p.spectating));
         }
         const auto list = b.CreateVector(players);
-        return {w::Body_RaceStatus, w::CreateRaceStatus(b, static_cast<w::RacePhase>(m.phase), m.race_number,
-                                                        m.start_tick, m.laps, list)
-                                        .Union()};
+        return finish<RaceStatus>(b, w::CreateRaceStatus(b, static_cast<w::RacePhase>(m.phase), m.race_number,
+                                                         m.start_tick, m.laps, list));
     }
-    std::pair<w::Body, fb::Offset<void>> operator()(const Results& m) const {
+    std::vector<std::uint8_t> operator()(const Results& m) const {
         assert(m.standings.size() <= static_cast<std::size_t>(kMaxSlots));
         std::vector<fb::Offset<w::StandingEntry>> standings;
         for (const StandingEntry& e : m.standings) {
@@ -191,11 +231,11 @@ struct Encoder {
                 w::CreateStandingEntry(b, e.slot, b.CreateString(e.name), e.finished, e.lap, e.finish_time_s));
         }
         const auto list = b.CreateVector(standings);
-        return {w::Body_Results, w::CreateResults(b, m.race_number, list, m.state_hash).Union()};
+        return finish<Results>(b, w::CreateResults(b, m.race_number, list, m.state_hash));
     }
-    std::pair<w::Body, fb::Offset<void>> operator()(const Goodbye& m) const {
+    std::vector<std::uint8_t> operator()(const Goodbye& m) const {
         assert_text(m.reason, kMaxReasonBytes);
-        return {w::Body_Goodbye, w::CreateGoodbye(b, b.CreateString(m.reason)).Union()};
+        return finish<Goodbye>(b, w::CreateGoodbye(b, b.CreateString(m.reason)));
     }
 };
 
@@ -239,38 +279,19 @@ bool decode_body(const w::Refuse& t, Message& out, Check& c) {
 }
 
 bool decode_body(const w::InputBatch& t, Message& out, Check& c) {
+    const auto* payload = t.payload();
+    if (!payload) return c.fail("InputBatch.payload", "missing");
     InputBatch m;
-    m.first_tick = t.first_tick();
-    m.ack_snapshot_tick = t.ack_snapshot_tick();
-    const auto* inputs = t.inputs();
-    if (!inputs) return c.fail("InputBatch.inputs", "missing");
-    if (inputs->size() == 0) return c.fail("InputBatch.inputs", "empty");
-    if (inputs->size() > kMaxInputsPerBatch) return c.fail("InputBatch.inputs", "more than kMaxInputsPerBatch");
-    if (inputs->size() - 1 > 0xFFFFFFFFu - m.first_tick) return c.fail("InputBatch.first_tick", "last tick overflows");
-    m.inputs.reserve(inputs->size());
-    for (const std::uint16_t v : *inputs) {
-        if (v >= (1u << kMaxInputBits)) return c.fail("InputBatch.inputs", "value wider than 10 bits");
-        m.inputs.push_back(Input::unpack(v));
-    }
+    if (!packed::unpack({payload->data(), payload->size()}, m, c.error())) return false;
     out = std::move(m);
     return true;
 }
 
 bool decode_body(const w::Snapshot& t, Message& out, Check& c) {
+    const auto* payload = t.payload();
+    if (!payload) return c.fail("Snapshot.payload", "missing");
     Snapshot m;
-    m.server_tick = t.server_tick();
-    m.baseline_tick = t.baseline_tick();
-    if (m.baseline_tick != kNoTick && m.baseline_tick > m.server_tick)
-        return c.fail("Snapshot.baseline_tick", "newer than server_tick");
-    m.last_applied_input_tick = t.last_applied_input_tick();
-    m.input_margin_ticks = t.input_margin_ticks();
-    if (!c.phase(t.phase(), "Snapshot.phase", m.phase)) return false;
-    m.race_number = t.race_number();
-    const auto* world = t.world();
-    if (!world) return c.fail("Snapshot.world", "missing");
-    if (world->size() == 0) return c.fail("Snapshot.world", "empty");
-    if (world->size() > kMaxMessageBytes) return c.fail("Snapshot.world", "too long");
-    m.world.assign(world->begin(), world->end());
+    if (!packed::unpack({payload->data(), payload->size()}, m, c.error())) return false;
     out = std::move(m);
     return true;
 }
@@ -335,12 +356,49 @@ bool decode_body(const w::Goodbye& t, Message& out, Check& c) {
     return true;
 }
 
-template <typename T>
-bool decode_as(const w::Envelope& env, Message& out, Check& c) {
-    const T* body = env.body_as<T>();
-    if (!body) return c.fail("Envelope.body", "missing");
-    return decode_body(*body, out, c);
+/// Verifies the buffer as message M and decodes it.
+template <typename M>
+bool decode_as(const std::uint8_t* data, std::size_t size, Message& out, Check& c) {
+    using T = typename Wire<M>::Table;
+    if (!verifies<T>(data, size, Wire<M>::kId)) return c.fail("message", "malformed flatbuffer (verification failed)");
+    return decode_body(*fb::GetRoot<T>(data), out, c);
 }
+
+/// Hello or Refuse in an Envelope, with the rules of protocol version 1.
+bool decode_envelope(const std::uint8_t* data, std::size_t size, Message& out, Check& c) {
+    // Every finished flatbuffer is a whole number of 4-byte words (the
+    // builder aligns to its 4-byte offsets), and Envelopes are sent as
+    // built: this also catches truncations that only cut padding.
+    if (size % 4 != 0) return c.fail("message", "length not a multiple of 4 (truncated?)");
+    if (!verifies<w::Envelope>(data, size, w::EnvelopeIdentifier()))
+        return c.fail("message", "malformed flatbuffer (verification failed)");
+    const w::Envelope* env = w::GetEnvelope(data);
+    switch (env->body_type()) {
+        case w::Handshake_Hello:
+            if (const auto* hello = env->body_as_Hello()) return decode_body(*hello, out, c);
+            break;
+        case w::Handshake_Refuse:
+            if (const auto* refuse = env->body_as_Refuse()) return decode_body(*refuse, out, c);
+            break;
+        default: return c.fail("Envelope.body_type", "not Hello or Refuse");
+    }
+    return c.fail("Envelope.body", "missing");
+}
+
+using DecodeFn = bool (*)(const std::uint8_t*, std::size_t, Message&, Check&);
+struct Kind {
+    const char* id;
+    DecodeFn decode;
+};
+template <typename M>
+constexpr Kind kind() {
+    return {Wire<M>::kId, decode_as<M>};
+}
+/// Every identifier: the Envelope's ("JTR1", the schema's file_identifier)
+/// for Hello and Refuse, then one per other message.
+constexpr Kind kKinds[] = {{"JTR1", decode_envelope}, kind<Welcome>(), kind<InputBatch>(), kind<Snapshot>(),
+                           kind<RaceStatus>(),        kind<Results>(), kind<Goodbye>()};
+static_assert(std::size(kKinds) == std::variant_size_v<Message> - 1);
 
 }  // namespace
 
@@ -356,12 +414,7 @@ const char* to_string(RacePhase p) {
 
 std::vector<std::uint8_t> encode(const Message& m) {
     fb::FlatBufferBuilder b(256);
-    const auto [type, body] = std::visit(Encoder{b}, m);
-    w::FinishEnvelopeBuffer(b, w::CreateEnvelope(b, type, body));
-    const std::uint8_t* p = b.GetBufferPointer();
-    std::vector<std::uint8_t> out(p, p + b.GetSize());
-    assert(out.size() <= kMaxMessageBytes && "encode: message too large");
-    return out;
+    return std::visit(Encoder{b}, m);
 }
 
 bool decode(std::span<const std::uint8_t> bytes, Message& out, std::string& error) {
@@ -373,11 +426,15 @@ bool decode(std::span<const std::uint8_t> bytes, Message& out, std::string& erro
         error = "message: larger than kMaxMessageBytes";
         return false;
     }
-    // Every finished flatbuffer is a whole number of 4-byte words (the
-    // builder aligns to its largest scalar, at least the 4-byte offsets): this
-    // also catches truncations that only cut padding after a string.
-    if (bytes.size() % 4 != 0) {
-        error = "message: length not a multiple of 4 (truncated?)";
+    // The file identifier, after the root offset, names the message.
+    const Kind* kind = nullptr;
+    if (bytes.size() >= sizeof(fb::uoffset_t) + fb::kFileIdentifierLength) {
+        const std::uint8_t* id = bytes.data() + sizeof(fb::uoffset_t);
+        for (const Kind& k : kKinds)
+            if (std::memcmp(id, k.id, fb::kFileIdentifierLength) == 0) kind = &k;
+    }
+    if (!kind) {
+        error = "message: unknown file identifier";
         return false;
     }
     // flatbuffers reads scalars in place: they must be aligned in memory.
@@ -388,32 +445,8 @@ bool decode(std::span<const std::uint8_t> bytes, Message& out, std::string& erro
         std::memcpy(aligned.data(), bytes.data(), bytes.size());
         data = reinterpret_cast<const std::uint8_t*>(aligned.data());
     }
-    if (bytes.size() < 8 || !w::EnvelopeBufferHasIdentifier(data)) {
-        error = "message: wrong file identifier (not JTR1)";
-        return false;
-    }
-    fb::Verifier::Options opts;
-    opts.max_depth = 8;
-    opts.max_tables = 256;
-    opts.check_alignment = true;
-    fb::Verifier verifier(data, bytes.size(), opts);
-    if (!w::VerifyEnvelopeBuffer(verifier)) {
-        error = "message: malformed flatbuffer (verification failed)";
-        return false;
-    }
-    const w::Envelope* env = w::GetEnvelope(data);
     Check c(error);
-    switch (env->body_type()) {
-        case w::Body_Hello: return decode_as<w::Hello>(*env, out, c);
-        case w::Body_Welcome: return decode_as<w::Welcome>(*env, out, c);
-        case w::Body_Refuse: return decode_as<w::Refuse>(*env, out, c);
-        case w::Body_InputBatch: return decode_as<w::InputBatch>(*env, out, c);
-        case w::Body_Snapshot: return decode_as<w::Snapshot>(*env, out, c);
-        case w::Body_RaceStatus: return decode_as<w::RaceStatus>(*env, out, c);
-        case w::Body_Results: return decode_as<w::Results>(*env, out, c);
-        case w::Body_Goodbye: return decode_as<w::Goodbye>(*env, out, c);
-        default: return c.fail("Envelope.body_type", "unknown message type");
-    }
+    return kind->decode(data, bytes.size(), out, c);
 }
 
 std::uint64_t physics_hash(const PhysicsSettings& s) {

@@ -406,6 +406,7 @@ bool decode_into(std::span<const std::uint8_t> bytes, const WorldSnapshot* basel
             out.last_inputs[i] = ref_input;
         } else {
             if (!r.bits("last input", 10, v)) return false;
+            if (!is_packed_input(v)) return r.fail("last input", "not an Input::pack() value");
             out.last_inputs[i] = Input::unpack(static_cast<std::uint16_t>(v));
         }
     }
@@ -421,6 +422,7 @@ bool decode_into(std::span<const std::uint8_t> bytes, const WorldSnapshot* basel
             if (!r.bit("upcoming input", same)) return false;
             if (!same) {
                 if (!r.bits("upcoming input", 10, v)) return false;
+                if (!is_packed_input(v)) return r.fail("upcoming input", "not an Input::pack() value");
                 prev = Input::unpack(static_cast<std::uint16_t>(v));
             }
             out.upcoming[i].push_back(prev);
@@ -432,5 +434,29 @@ bool decode_into(std::span<const std::uint8_t> bytes, const WorldSnapshot* basel
 }
 
 }  // namespace
+
+bool world::read_world_tick(std::span<const std::uint8_t> payload, std::uint32_t baseline_tick, std::uint32_t& tick,
+                            std::string& error) {
+    BitReader r(payload);
+    std::uint64_t v = 0;
+    if (baseline_tick == kNoTick) {
+        if (!r.get(32, v)) {
+            error = std::string("world payload: tick: ") + r.error();
+            return false;
+        }
+        tick = static_cast<std::uint32_t>(v);
+        return true;
+    }
+    if (!r.get_ue(kTickDeltaOrder, v)) {
+        error = std::string("world payload: tick: ") + r.error();
+        return false;
+    }
+    if (v > static_cast<std::uint64_t>(kU32Max - baseline_tick)) {
+        error = "world payload: tick: out of range";
+        return false;
+    }
+    tick = static_cast<std::uint32_t>(baseline_tick + v);
+    return true;
+}
 
 }  // namespace jetrace::proto

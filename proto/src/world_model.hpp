@@ -12,6 +12,8 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <span>
+#include <string>
 
 namespace jetrace::proto::world {
 
@@ -168,5 +170,19 @@ inline bool is_units(double x, int bits, std::int64_t lo, std::int64_t hi) {
     return u >= static_cast<double>(lo) && u <= static_cast<double>(hi) && u == std::nearbyint(u) &&
            !(u == 0.0 && std::signbit(u));
 }
+
+/// True if v is what Input::pack() produces (10 bits, steer within range):
+/// the only input values decoding accepts.
+inline bool is_packed_input(std::uint64_t v) {
+    return v < (1u << 10) && Input::unpack(static_cast<std::uint16_t>(v)).pack() == v;
+}
+
+/// The tick of a world payload, read from its first field without decoding
+/// the rest: baseline_tick + n with a baseline (kNoTick: none), else the
+/// u(32) tick. Snapshot carries its server_tick only there
+/// (packed_payloads.cpp).
+/// False with a reason if the field is truncated or the tick passes 2^32 - 1.
+bool read_world_tick(std::span<const std::uint8_t> payload, std::uint32_t baseline_tick, std::uint32_t& tick,
+                     std::string& error);
 
 }  // namespace jetrace::proto::world

@@ -15,7 +15,7 @@
 
 namespace jetrace::proto {
 
-inline constexpr std::uint16_t kProtocolVersion = 1;
+inline constexpr std::uint16_t kProtocolVersion = 2;
 /// Larger datagrams are rejected before parsing (unit: bytes).
 inline constexpr std::size_t kMaxMessageBytes = 8192;
 /// Most inputs one InputBatch may carry.
