@@ -69,9 +69,6 @@ int main(int argc, char** argv) {
         jetrace::make_builtin_track(name, t);
         scenes.push_back(std::make_unique<jetrace::Scene>(jetrace::Scene::make(std::move(t), physics)));
     }
-    // All scenes are tried by the probe client below; simplest robust choice:
-    // one transport + client per bot per candidate is wasteful, so ask the
-    // server once which track it runs.
     struct Bot {
         std::unique_ptr<jetrace::net::Transport> transport;
         std::unique_ptr<jetrace::client::RaceClient> client;

@@ -6,6 +6,7 @@
 # reproduce the server's final state hash.
 # Usage: race_processes.sh SERVER BOT SIM
 set -euo pipefail
+. "$(dirname "$0")/../tools/server_port.sh"
 server="$1" bot="$2" sim="$3"
 out="$(mktemp -d)"
 trap 'kill "$pid" 2>/dev/null || true; rm -rf "$out"' EXIT
@@ -13,13 +14,7 @@ trap 'kill "$pid" 2>/dev/null || true; rm -rf "$out"' EXIT
   --time-scale 4 --countdown 1 --results "$out/results.json" --record "$out/race.replay" --log-level warn \
   >"$out/server.log" 2>&1 &
 pid=$!
-port=""
-for _ in $(seq 1 100); do
-  port="$(sed -n 's/^listening on .*:\([0-9]*\)$/\1/p' "$out/server.log")"
-  [ -n "$port" ] && break
-  sleep 0.1
-done
-[ -n "$port" ] || { echo "server did not start"; cat "$out/server.log"; exit 1; }
+port="$(server_port "$out/server.log")"
 timeout 120 "$bot" --connect "127.0.0.1:$port" --count 3 --time-scale 4 --max-seconds 100 >"$out/bots.json"
 wait "$pid"
 cat "$out/server.log" "$out/bots.json"

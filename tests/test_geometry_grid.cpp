@@ -611,7 +611,7 @@ void check_grid_against_brute(const Track& track, const std::vector<Vec3>& centr
             continue;
         }
         // The resolver's path: gather_candidates (sorted, ascending, no duplicates).
-        gather_candidates(track, grid, Broadphase::grid, c, kQueryRadius, cand);
+        gather_candidates(grid, Broadphase::grid, c, kQueryRadius, cand);
         if (!std::is_sorted(cand.triangles.begin(), cand.triangles.end()) ||
             std::adjacent_find(cand.triangles.begin(), cand.triangles.end()) != cand.triangles.end() ||
             !std::includes(cand.triangles.begin(), cand.triangles.end(), brute[qi].begin(), brute[qi].end())) {
@@ -800,7 +800,7 @@ void plane_is_found(const Plane& plane, double L, double cell_size, std::mt19937
             }
         }
         for (Broadphase bp : {Broadphase::grid, Broadphase::brute_force}) {
-            gather_candidates(plane.track, grid, bp, c, r + ps.contact_skin_m + 0.5, cand);
+            gather_candidates(grid, bp, c, r + ps.contact_skin_m + 0.5, cand);
             find_contacts(plane.track, cand, ps, c, contacts);
             bool along_normal = false;
             for (int k = 0; k < contacts.count; ++k) along_normal |= (contacts.normal[k] - plane.normal).norm() < 1e-9;

@@ -8,6 +8,7 @@
 # JETRACE_TIME_SCALE (1 = real time; larger runs the clocks faster).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
+. "$root/tools/server_port.sh"
 "$root/tools/setup.sh"
 "$root/tools/build.sh" >/dev/null
 
@@ -23,13 +24,7 @@ trap 'kill "$server_pid" 2>/dev/null || true; rm -rf "$out"' EXIT
   --min-players "$bots" --max-players "$bots" --races 1 --time-scale "$scale" \
   --results "$out/results.json" --record "$out/race.replay" --log-level warn >"$out/server.log" 2>&1 &
 server_pid=$!
-port=""
-for _ in $(seq 1 100); do
-  port="$(sed -n 's/^listening on .*:\([0-9]*\)$/\1/p' "$out/server.log")"
-  [ -n "$port" ] && break
-  sleep 0.1
-done
-[ -n "$port" ] || { echo "race: the server did not start:"; cat "$out/server.log"; exit 1; }
+port="$(server_port "$out/server.log")"
 echo "race: server on 127.0.0.1:$port, $bots bots, $laps laps of $track (time scale $scale)"
 
 "$bin/client/jetrace-bot" --connect "127.0.0.1:$port" --count "$bots" --time-scale "$scale" >"$out/bots.json" || true

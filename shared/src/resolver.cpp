@@ -12,7 +12,7 @@ bool Candidates::covers(const Vec3& p, double radius_m) const {
     return d.x() <= slack && d.y() <= slack && d.z() <= slack;
 }
 
-void gather_candidates(const Track& track, const UniformGrid& grid, Broadphase bp, const Vec3& center,
+void gather_candidates(const UniformGrid& grid, Broadphase bp, const Vec3& center,
                        double radius_m, Candidates& out) {
     out.center = center;
     out.reach_m = radius_m;
@@ -24,7 +24,6 @@ void gather_candidates(const Track& track, const UniformGrid& grid, Broadphase b
     // result of a step then does not depend on which cells were visited or
     // on how large the gathered region was, only on the geometry.
     std::sort(out.triangles.begin(), out.triangles.end());
-    (void)track;
 }
 
 namespace {
@@ -83,7 +82,7 @@ ResolveStats resolve(const Track& track, const UniformGrid& grid, Broadphase bp,
     const double target = r + s.resolver_epsilon_m;
     const double query_radius = r + s.contact_skin_m;
     if (!cand.covers(position, query_radius)) {
-        gather_candidates(track, grid, bp, position, query_radius + 0.5, cand);
+        gather_candidates(grid, bp, position, query_radius + kGatherMargin_m, cand);
     }
     for (int pass = 0; pass < s.resolver_passes; ++pass) {
         bool pushed = false;
@@ -103,7 +102,7 @@ ResolveStats resolve(const Track& track, const UniformGrid& grid, Broadphase bp,
         if (!pushed) break;
         ++stats.pushes;
         if (!cand.covers(position, query_radius)) {
-            gather_candidates(track, grid, bp, position, query_radius + 0.5, cand);
+            gather_candidates(grid, bp, position, query_radius + kGatherMargin_m, cand);
         }
     }
     if (stats.pushes == s.resolver_passes) {

@@ -38,9 +38,6 @@ void remove_car(WorldState& state, int slot) { state.cars[static_cast<std::size_
 
 namespace {
 
-// Margin added to the gathered region beyond the expected motion (unit: m).
-constexpr double kGatherMargin_m = 0.5;
-
 void ensure_scratch(std::size_t n, StepScratch& s) {
     if (s.candidates.size() != n) {
         s.candidates.resize(n);
@@ -69,7 +66,7 @@ void drive_phase(const Scene& sc, WorldState& st, std::span<const Input> inputs,
             ps.car_radius_m + ps.contact_skin_m + car.velocity.norm() * ps.dt_s() + kGatherMargin_m;
         Candidates& cand = scr.candidates[i];
         if (!cand.covers(car.position, reach - kGatherMargin_m)) {
-            gather_candidates(sc.track, sc.grid, sc.broadphase, car.position, reach, cand);
+            gather_candidates(sc.grid, sc.broadphase, car.position, reach, cand);
         }
         if (!scr.contacts_valid[i] || scr.contacts_at[i] != car.position) {
             find_contacts(sc.track, cand, ps, car.position, scr.contacts[i]);
@@ -108,7 +105,7 @@ void rules_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
         Candidates& cand = scr.candidates[i];
         const double reach = ps.car_radius_m + ps.contact_skin_m;
         if (!cand.covers(car.position, reach)) {
-            gather_candidates(sc.track, sc.grid, sc.broadphase, car.position, reach + kGatherMargin_m, cand);
+            gather_candidates(sc.grid, sc.broadphase, car.position, reach + kGatherMargin_m, cand);
         }
         if (!scr.contacts_valid[i] || scr.contacts_at[i] != car.position) {
             find_contacts(sc.track, cand, ps, car.position, scr.contacts[i]);

@@ -30,7 +30,11 @@ struct Candidates {
 
 /// Gathers the triangles that may touch a sphere of `radius_m` at `center`
 /// (grid query or all triangles).
-void gather_candidates(const Track& track, const UniformGrid& grid, Broadphase bp, const Vec3& center,
+/// Extra reach added around a car when its candidates are gathered, so
+/// they stay valid while small pushes move it (unit: m).
+inline constexpr double kGatherMargin_m = 0.5;
+
+void gather_candidates(const UniformGrid& grid, Broadphase bp, const Vec3& center,
                        double radius_m, Candidates& out);
 
 /// Contacts within radius + skin of `center` among the candidates.

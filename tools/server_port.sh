@@ -1,0 +1,14 @@
+# Sourced by scripts that start jetrace-server with --port 0: waits (up to
+# 10 s) for its first line "listening on ADDR:PORT" in LOG and prints PORT.
+# Usage: port="$(server_port LOG)" || exit 1
+server_port() {
+  local log="$1" port=""
+  for _ in $(seq 1 100); do
+    port="$(sed -n 's/^listening on .*:\([0-9]*\)$/\1/p' "$log")"
+    [ -n "$port" ] && { echo "$port"; return 0; }
+    sleep 0.1
+  done
+  echo "the server did not start:" >&2
+  cat "$log" >&2
+  return 1
+}
