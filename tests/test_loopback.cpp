@@ -234,3 +234,17 @@ TEST(Loopback, TwoRacesInARow) {
     EXPECT_LT(second, first * 1.3) << "the second race's winner was much slower: inputs lost after the restart?";
     for (const auto& st : o.stats) EXPECT_EQ(st.corrections, 0u);
 }
+
+TEST(Loopback, LongLatencyTheClientsClockDidNotExpect) {
+    // 100 ms each way on the virtual clock while ENet measures a loopback
+    // round trip of about 0 ms: every client starts far too little ahead and
+    // must jump. Jumping again on every snapshot before the first jump shows
+    // in the feedback would overshoot by hundreds of ticks.
+    jetrace::net::Conditions c;
+    c.latency_ms = 100;
+    c.seed = 9;
+    const RaceOutcome o = race(4, &c, 1);
+    report(o);
+    ASSERT_TRUE(o.server_done) << "the race did not end in time";
+    for (std::size_t i = 0; i < o.finished.size(); ++i) EXPECT_TRUE(o.finished[i]) << "bot " << i << " did not finish";
+}

@@ -189,10 +189,12 @@ void RaceServer::on_inputs(Client& c, const proto::InputBatch& b) {
     }
     const std::uint64_t now_tick = world_.tick;
     // The newest tick the client has produced an input for, late or not: the
-    // margin fed back in snapshots tells it to run further ahead.
-    const std::uint64_t newest = std::uint64_t{b.first_tick} + b.inputs.size() - 1;
-    if (newest <= now_tick + static_cast<std::uint64_t>(config_.max_input_lead_ticks) &&
-        (c.newest_input_tick == proto::kNoTick || newest > c.newest_input_tick)) {
+    // margin fed back in snapshots tells it to run further ahead. Beyond the
+    // lead limit it counts as the limit, so a client that ran too far ahead
+    // learns it (and slows down) instead of hearing stale news forever.
+    const std::uint64_t newest = std::min(std::uint64_t{b.first_tick} + b.inputs.size() - 1,
+                                          now_tick + static_cast<std::uint64_t>(config_.max_input_lead_ticks));
+    if (c.newest_input_tick == proto::kNoTick || newest > c.newest_input_tick) {
         c.newest_input_tick = static_cast<std::uint32_t>(newest);
     }
     for (std::size_t i = 0; i < b.inputs.size(); ++i) {
