@@ -80,6 +80,8 @@ private:
 struct LiveRaceOptions {
     int bots = 4;
     int laps = 1;
+    /// Races before the server is done (unit: races).
+    int races = 1;
     /// 0: as many as bots (unit: players).
     int max_players = 0;
     /// 0: as many as bots (unit: players).
@@ -93,6 +95,9 @@ struct LiveRaceOptions {
     /// Virtual time a connection may stay silent before its Hello (unit: s).
     double hello_timeout_s = 5.0;
     std::uint64_t skill_seed = 11;
+    /// Network conditions on the sending side of the server and of every bot
+    /// (bot i: seed + 1000 + i); null: none.
+    const net::Conditions* conditions = nullptr;
     /// Wraps a bot's transport (e.g. to make it misbehave); null: as is.
     std::function<std::unique_ptr<net::Transport>(int bot, std::unique_ptr<net::Transport>)> wrap;
 };
@@ -110,7 +115,7 @@ public:
         cfg.laps = o.laps;
         cfg.max_players = o.max_players > 0 ? o.max_players : o.bots;
         cfg.min_players = o.min_players > 0 ? o.min_players : o.bots;
-        cfg.races = 1;
+        cfg.races = o.races;
         cfg.countdown_s = 1.0;
         cfg.results_pause_s = 1.0;
         cfg.finish_window_s = o.finish_window_s;
@@ -124,6 +129,7 @@ public:
         server_net_ = net::listen_enet(ncfg, error);
         if (!server_net_) return;
         port = server_net_->local_port();
+        if (o.conditions) server_net_ = net::condition(std::move(server_net_), *o.conditions);
         server_ = std::make_unique<server::RaceServer>(cfg, *scene_, *server_net_);
         server_->on_race_end = [this](const server::RaceEnd& e) {
             ends.push_back(e);
@@ -133,6 +139,11 @@ public:
         for (int i = 0; i < o.bots; ++i) {
             auto t = net::connect_enet("127.0.0.1", port, 5000, error);
             if (!t) return;
+            if (o.conditions) {
+                net::Conditions c = *o.conditions;
+                c.seed = o.conditions->seed + 1000 + static_cast<std::uint64_t>(i);
+                t = net::condition(std::move(t), c);
+            }
             if (o.wrap) t = o.wrap(i, std::move(t));
             client::ClientConfig cc;
             cc.name = "bot" + std::to_string(i);
@@ -147,6 +158,7 @@ public:
     bool ok() const { return ok_; }
     server::RaceServer& server() { return *server_; }
     client::RaceClient& bot(int i) { return *bots_[static_cast<std::size_t>(i)]; }
+    int bots() const { return static_cast<int>(bots_.size()); }
     std::uint64_t now_us() const { return now_us_; }
     const Scene& scene() const { return *scene_; }
 
