@@ -227,7 +227,8 @@ void RaceServer::on_inputs(Client& c, const proto::InputBatch& b) {
 void RaceServer::note(Client& c, Anomaly kind, const std::string& what) {
     if ((c.logged_anomalies & kind) != 0) return;
     c.logged_anomalies |= kind;
-    spdlog::warn("client {} ({}): {} (logged once per client)", c.peer, c.name, what);
+    spdlog::log(kind == kInputTooFarAhead ? spdlog::level::info : spdlog::level::warn,
+                "client {} ({}): {} (logged once per client)", c.peer, c.name, what);
 }
 
 void RaceServer::broadcast_status() {

@@ -106,7 +106,9 @@ private:
     };
 
     /// Odd but harmless client behaviour: the data is ignored, the first
-    /// occurrence of each kind per client is logged (a flood never floods the log).
+    /// occurrence of each kind per client is logged (a flood never floods the
+    /// log). Inputs too far ahead are also what an honest client sends for
+    /// the previous race until it sees the new one, hence only info.
     enum Anomaly : std::uint8_t { kConflictingInput = 1, kInputTooFarAhead = 2, kInputWhileSpectating = 4 };
     void note(Client& c, Anomaly kind, const std::string& what);
 
