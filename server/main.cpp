@@ -1,6 +1,7 @@
 // jetrace-server: a dedicated authoritative race server over ENet/UDP.
 #include "jetrace/net/transport.hpp"
 #include "jetrace/server/race_server.hpp"
+#include "jetrace/server/tick_times.hpp"
 #include "jetrace/track_io.hpp"
 
 #include <CLI/CLI.hpp>
@@ -18,13 +19,6 @@ namespace {
 
 std::atomic<int> g_signal{0};
 void on_signal(int sig) { g_signal = sig; }
-
-double percentile(std::vector<double> v, double p) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    const auto i = static_cast<std::size_t>(p * static_cast<double>(v.size() - 1) + 0.5);
-    return v[std::min(i, v.size() - 1)];
-}
 
 }  // namespace
 
@@ -106,8 +100,7 @@ int main(int argc, char** argv) {
         return static_cast<std::uint64_t>(std::chrono::duration<double, std::micro>(Clock::now() - start).count() *
                                           time_scale);
     };
-    std::vector<double> tick_ms;
-    tick_ms.reserve(1 << 20);
+    jetrace::server::TickTimes tick_ms;
     while (!server.done()) {
         if (g_signal != 0) {
             server.shutdown(g_signal == SIGINT ? "server interrupted" : "server terminated");
@@ -117,7 +110,7 @@ int main(int argc, char** argv) {
         const int ticks = server.update(now_us());
         if (ticks > 0) {
             const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count() / ticks;
-            if (tick_ms.size() < tick_ms.capacity()) tick_ms.insert(tick_ms.end(), static_cast<std::size_t>(ticks), ms);
+            tick_ms.add(ms, static_cast<std::uint64_t>(ticks));
         }
         std::this_thread::sleep_for(std::chrono::microseconds(500));
     }
@@ -134,8 +127,8 @@ int main(int argc, char** argv) {
     nlohmann::json j;
     j["races"] = server.races_completed();
     j["ticks"] = server.ticks();
-    j["tick_ms_median"] = percentile(tick_ms, 0.5);
-    j["tick_ms_p99"] = percentile(tick_ms, 0.99);
+    j["tick_ms_median"] = tick_ms.percentile(0.5);
+    j["tick_ms_p99"] = tick_ms.percentile(0.99);
     j["max_players"] = server.max_players_seen();
     j["bytes_sent_per_s"] = static_cast<double>(totals.bytes_sent) / wall_s;
     j["bytes_received_per_s"] = static_cast<double>(totals.bytes_received) / wall_s;
