@@ -55,9 +55,22 @@ std::uint64_t steady_ns() {
             .count());
 }
 
+// Socket buffers asked for (unit: bytes): a proxy descheduled for a moment
+// on a busy machine should queue, not drop, what arrives meanwhile. Beyond
+// net.core.rmem_max only with CAP_NET_ADMIN (SO_RCVBUFFORCE); best effort.
+constexpr int kSocketBufferBytes = 4 << 20;
+
 int udp_socket(std::string& error) {
     const int fd = ::socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
-    if (fd < 0) error = std::string("cannot create a UDP socket: ") + std::strerror(errno);
+    if (fd < 0) {
+        error = std::string("cannot create a UDP socket: ") + std::strerror(errno);
+        return fd;
+    }
+    const int bytes = kSocketBufferBytes;
+    if (::setsockopt(fd, SOL_SOCKET, SO_RCVBUFFORCE, &bytes, sizeof bytes) != 0)
+        ::setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &bytes, sizeof bytes);
+    if (::setsockopt(fd, SOL_SOCKET, SO_SNDBUFFORCE, &bytes, sizeof bytes) != 0)
+        ::setsockopt(fd, SOL_SOCKET, SO_SNDBUF, &bytes, sizeof bytes);
     return fd;
 }
 
