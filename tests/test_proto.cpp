@@ -520,7 +520,7 @@ TEST(ProtoMessages, RandomPayloadsNeverCrash) {
 TEST(ProtoMessages, PhysicsHashCoversEveryField) {
     // A new field in PhysicsSettings changes its size: add it to the hash
     // (jetrace::physics_fingerprint, which jp::physics_hash is) and below.
-    EXPECT_EQ(sizeof(jetrace::PhysicsSettings), 128u) << "PhysicsSettings changed: update the physics hash";
+    EXPECT_EQ(sizeof(jetrace::PhysicsSettings), 136u) << "PhysicsSettings changed: update the physics hash";
     const jetrace::PhysicsSettings base;
     const std::uint64_t h = jp::physics_hash(base);
     EXPECT_EQ(h, jp::physics_hash(jetrace::PhysicsSettings{}));
@@ -534,7 +534,8 @@ TEST(ProtoMessages, PhysicsHashCoversEveryField) {
         [](S& s) { s.ride_min_cos = 0.4; }, [](S& s) { s.no_progress_s = 5.0; },
         [](S& s) { s.resolver_passes = 10; }, [](S& s) { s.resolver_epsilon_m = 1e-3; },
         [](S& s) { s.contact_skin_m = 0.1; }, [](S& s) { s.integrator = jetrace::Integrator::explicit_euler; },
-        [](S& s) { s.quantize_state = false; }};
+        [](S& s) { s.quantize_state = false; }, [](S& s) { s.collision_mode = jetrace::CollisionMode::discrete; },
+        [](S& s) { s.sweep_contacts = 2; }};
     for (std::size_t i = 0; i < mutations.size(); ++i) {
         S s = base;
         mutations[i](s);
