@@ -102,6 +102,8 @@ public:
     const proto::Results& results() const { return results_; }
     std::uint32_t races_finished() const { return races_finished_; }
     double rtt_ms() const;
+    /// The Welcome's reconnect token (empty before a Welcome).
+    const std::vector<std::uint8_t>& reconnect_token() const { return reconnect_token_; }
     /// Traffic of every connection this client made so far.
     net::Totals totals() const;
 
