@@ -26,7 +26,7 @@ namespace {
 
 // ------------------------------------------------------------ equality
 
-auto tie(const jp::Hello& m) { return std::tie(m.protocol_version, m.name, m.reconnect_token); }
+auto tie(const jp::Hello& m) { return std::tie(m.protocol_version, m.name, m.reconnect_token, m.connect_token); }
 auto tie(const jp::Welcome& m) {
     return std::tie(m.protocol_version, m.slot, m.max_players, m.tick_rate_hz, m.snapshot_rate_hz, m.track_name,
                     m.track_identity, m.physics_hash, m.server_tick, m.reconnect_token);
@@ -90,9 +90,10 @@ std::vector<std::uint8_t> token(std::uint8_t first) {
 /// One of every message, with non-default values and limits.
 std::vector<jp::Message> sample_messages() {
     std::vector<jp::Message> out;
-    out.push_back(jp::Hello{1, "Ayrton", {}});
-    out.push_back(jp::Hello{7, "\xc3\xa9t\xc3\xa9 \xe2\x9c\x93 1234567890123456789012", token(3)});  // 32 bytes
-    out.push_back(jp::Hello{0, "", {}});
+    out.push_back(jp::Hello{1, "Ayrton", {}, {}});
+    out.push_back(jp::Hello{7, "\xc3\xa9t\xc3\xa9 \xe2\x9c\x93 1234567890123456789012", token(3), {}});  // 32 bytes
+    out.push_back(jp::Hello{0, "", {}, {}});
+    out.push_back(jp::Hello{2, "Alain", token(4), std::vector<std::uint8_t>(jp::kMaxConnectTokenBytes, 0x5A)});
     out.push_back(jp::Welcome{1, 5, 8, 120, 60, "ring", 0x1234567890abcdefull, 0xfedcba0987654321ull, 99, token(9)});
     out.push_back(jp::Welcome{2, 63, 64, 10000, 1, std::string(256, 't'), 0, 0, 0xFFFFFFFFu, {}});
     out.push_back(jp::Refuse{"server full"});
@@ -227,7 +228,7 @@ TEST(ProtoMessages, RejectsEmptyOversizedAndWrongIdentifier) {
     std::vector<std::uint8_t> big = jp::encode(jp::Goodbye{"x"});
     big.resize(jp::kMaxMessageBytes + 1);
     EXPECT_FALSE(decodes(big, &why));
-    std::vector<std::uint8_t> bytes = jp::encode(jp::Hello{1, "a", {}});
+    std::vector<std::uint8_t> bytes = jp::encode(jp::Hello{1, "a", {}, {}});
     bytes[4] = 'X';
     EXPECT_FALSE(decodes(bytes, &why));
     EXPECT_NE(why.find("identifier"), std::string::npos) << why;
@@ -383,7 +384,7 @@ TEST(ProtoMessages, HelloAndRefuseAreThoseOfVersion1) {
         0x76, 0x65, 0x72, 0x73, 0x69, 0x6f, 0x6e, 0x20, 0x32, 0x20, 0x6e, 0x6f, 0x74, 0x20, 0x73, 0x75, 0x70, 0x70, 0x6f,
         0x72, 0x74, 0x65, 0x64, 0x20, 0x28, 0x73, 0x65, 0x72, 0x76, 0x65, 0x72, 0x20, 0x73, 0x70, 0x65, 0x61, 0x6b, 0x73,
         0x20, 0x31, 0x29, 0x00, 0x00};
-    const jp::Hello hello{1, "Ayrton", {}};
+    const jp::Hello hello{1, "Ayrton", {}, {}};
     const jp::Refuse refuse{"protocol version 2 not supported (server speaks 1)"};
     EXPECT_EQ(jp::encode(hello), hello_v1);
     EXPECT_EQ(jp::encode(refuse), refuse_v1);
