@@ -14,20 +14,24 @@ Mesh thin_wall_mesh() {
     return m;
 }
 
+Vec3 approach_start(const PhysicsSettings& ps, double speed_mps, const Approach& a, int phase, int lateral) {
+    const double rest = ps.car_radius_m + ps.resolver_epsilon_m;
+    // Phase 0: where a push-out off the wall leaves a car (r + epsilon from
+    // it, the closest a car can be without touching); then back by fractions
+    // of one step's travel. Laterals: across one 4 m square of the wall.
+    const double x0 = -rest - speed_mps * ps.dt_s() * phase / a.phases;
+    const double z0 = 4.0 * (lateral + 0.5) / a.laterals;
+    return Vec3(x0, rest, z0);
+}
+
 bool passes_through(const Scene& scene, double speed_mps, const Approach& a) {
-    const PhysicsSettings& ps = scene.physics;
-    const double r = ps.car_radius_m, rest = r + ps.resolver_epsilon_m, step_m = speed_mps * ps.dt_s();
     const Input coast{};
     StepScratch scratch;
     for (int p = 0; p < a.phases; ++p) {
         for (int l = 0; l < a.laterals; ++l) {
-            // Phase 0: where a push-out off the wall leaves a car (r + epsilon
-            // from it, the closest a car can be without touching); then back
-            // by fractions of one step's travel.
-            const double x0 = -rest - step_m * p / a.phases;
-            const double z0 = 4.0 * (l + 0.5) / a.laterals;
-            WorldState st = one_car(Vec3(x0, rest, z0), Vec3(1, 0, 0), Vec3(speed_mps, 0, 0));
-            for (int i = 0; i < 8; ++i) {
+            const Vec3 start = approach_start(scene.physics, speed_mps, a, p, l);
+            WorldState st = one_car(start, Vec3(1, 0, 0), Vec3(speed_mps, 0, 0));
+            for (int i = 0; i < kApproachSteps; ++i) {
                 step(scene, st, {&coast, 1}, scratch);
                 if (st.cars[0].position.x() > 0.0) return true;
             }
@@ -38,10 +42,15 @@ bool passes_through(const Scene& scene, double speed_mps, const Approach& a) {
 
 TunnelLimit tunnelling_limit(const Scene& scene, double lo_mps, double hi_mps, const Approach& a, double ratio,
                              double tol_mps) {
+    return tunnelling_limit([&](double v) { return passes_through(scene, v, a); }, lo_mps, hi_mps, ratio, tol_mps);
+}
+
+TunnelLimit tunnelling_limit(const std::function<bool(double)>& passes, double lo_mps, double hi_mps, double ratio,
+                             double tol_mps) {
     TunnelLimit out;
     double hold = 0.0, fail = 0.0;
     for (double v = lo_mps; v <= hi_mps * (1 + 1e-12); v *= ratio) {
-        if (passes_through(scene, v, a)) {
+        if (passes(v)) {
             fail = v;
             break;
         }
@@ -53,7 +62,7 @@ TunnelLimit tunnelling_limit(const Scene& scene, double lo_mps, double hi_mps, c
     }
     while (fail - hold > tol_mps) {
         const double mid = 0.5 * (hold + fail);
-        (passes_through(scene, mid, a) ? fail : hold) = mid;
+        (passes(mid) ? fail : hold) = mid;
     }
     out.holds_to_mps = hold;
     out.first_pass_mps = fail;

@@ -4,6 +4,7 @@
 
 #include "lab/scenes.hpp"
 
+#include <functional>
 #include <vector>
 
 namespace jetrace::lab {
@@ -22,6 +23,12 @@ struct Approach {
     int laterals = 4;
 };
 
+/// Start of the car's centre for approach (`phase`, `lateral`) at `speed_mps`.
+Vec3 approach_start(const PhysicsSettings& ps, double speed_mps, const Approach& a, int phase, int lateral);
+
+/// Steps a car is followed after its start (it reaches the wall in the first).
+inline constexpr int kApproachSteps = 8;
+
 /// A car sliding on the floor at `speed_mps` towards the wall (no throttle):
 /// true if, for any approach, its centre ever ends a step beyond the wall.
 bool passes_through(const Scene& scene, double speed_mps, const Approach& a);
@@ -35,6 +42,10 @@ struct TunnelLimit {
 
 /// Probes speeds from `lo_mps` up by `ratio` (geometric) to `hi_mps`, then
 /// bisects between the last holding and first passing speed to `tol_mps`.
+/// `passes(speed)` says whether a car at that speed passes through.
+TunnelLimit tunnelling_limit(const std::function<bool(double)>& passes, double lo_mps, double hi_mps,
+                             double ratio = 1.05, double tol_mps = 0.5);
+/// The same for a jetrace scene (passes_through with approach grid `a`).
 TunnelLimit tunnelling_limit(const Scene& scene, double lo_mps, double hi_mps, const Approach& a,
                              double ratio = 1.05, double tol_mps = 0.5);
 
