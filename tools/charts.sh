@@ -143,6 +143,7 @@ set key top left
 set title 'cost'
 set ylabel 'ns per car-step'
 plot D.'/track_size.csv' using 3:(strcol(1) eq 'refined' ? \$7 : 1/0) smooth unique with linespoints pt 7 title 'refined', \
+     D.'/track_size.csv' using 3:(strcol(1) eq 'refined_cell5' ? \$7 : 1/0) smooth unique with linespoints pt 9 title 'refined, 5 m cells', \
      D.'/track_size.csv' using 3:(strcol(1) eq 'tiled' ? \$7 : 1/0) smooth unique with linespoints pt 5 title 'tiled'
 set title 'grid build'
 set ylabel 'ms'

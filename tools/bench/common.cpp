@@ -1,9 +1,16 @@
 #include "bench/common.hpp"
 
 #include <algorithm>
+#include <ctime>
 #include <stdexcept>
 
 namespace jetrace::bench {
+
+double thread_cpu_ns() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return static_cast<double>(ts.tv_sec) * 1e9 + static_cast<double>(ts.tv_nsec);
+}
 
 double median(std::vector<double> v) {
     if (v.empty()) return 0.0;

@@ -17,6 +17,22 @@ inline double ns_since(Clock::time_point t0) {
     return std::chrono::duration<double, std::nano>(Clock::now() - t0).count();
 }
 
+/// CPU time of the calling thread (unit: ns). The study times with it: on
+/// a shared machine it leaves out the time the thread waits for a core
+/// (cache sharing still shows). One call costs a system call, so it brackets
+/// whole loops, not single short steps.
+double thread_cpu_ns();
+
+/// Thread CPU time elapsed since construction.
+class CpuTimer {
+public:
+    CpuTimer() : t0_(thread_cpu_ns()) {}
+    double ns() const { return thread_cpu_ns() - t0_; }
+
+private:
+    double t0_;
+};
+
 double median(std::vector<double> v);
 
 /// One car in free flight (no track contact) for `seconds` from a fixed

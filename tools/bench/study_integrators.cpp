@@ -8,7 +8,8 @@
 //                no thrust), against the analytic circle and against the
 //                same run at 7,680 Hz.
 // All runs without state quantisation (at 7,680 Hz a step's steering is
-// below the quaternion quantum); ns per step is the banked turn's full step.
+// below the quaternion quantum); ns per step is the banked turn's full step
+// (thread CPU time).
 #include "bench/study.hpp"
 #include "lab/probes.hpp"
 
@@ -105,10 +106,10 @@ Turn banked_turn(const PhysicsSettings& base, double seconds) {
     StepScratch scratch;
     const Input in = Input::clamped(0, kSteer, 0);
     const int steps = static_cast<int>(seconds * ps.tick_rate_hz + 0.5);
-    const auto t0 = Clock::now();
+    const CpuTimer timer;
     for (int i = 0; i < steps; ++i) step(sc, st, {&in, 1}, scratch);
     Turn out;
-    out.ns_per_step = ns_since(t0) / steps;
+    out.ns_per_step = timer.ns() / steps;
     out.final_position = st.cars[0].position;
     const double t = steps * ps.dt_s();
     const Vec3 exact(kTurnRadius * std::cos(w * t), rest * std::cos(th), kTurnRadius * std::sin(w * t));

@@ -5,7 +5,8 @@
 //                         and the share of steps ending inside geometry;
 //   jitter at rest        a car held in the corner at full throttle: largest
 //                         step-to-step movement over its second second;
-//   cost                  ns per step of that held car (pushes every step).
+//   cost                  ns per step of that held car (pushes every step;
+//                         thread CPU time).
 #include "bench/study.hpp"
 #include "lab/probes.hpp"
 
@@ -29,14 +30,14 @@ Held hold_in_corner(const Scene& sc, int steps) {
     Held out;
     Vec3 last = st.cars[0].position;
     long pushes = 0;
-    const auto t0 = Clock::now();
+    const CpuTimer timer;
     for (int i = 0; i < steps; ++i) {
         step(sc, st, {&full, 1}, scratch);
         pushes += scratch.pushes;
         if (i >= steps / 2) out.jitter_m = std::max(out.jitter_m, (st.cars[0].position - last).norm());
         last = st.cars[0].position;
     }
-    out.ns_per_step = ns_since(t0) / steps;
+    out.ns_per_step = timer.ns() / steps;
     out.mean_pushes = static_cast<double>(pushes) / steps;
     return out;
 }

@@ -2,11 +2,13 @@
 //   grid_cell.csv   stadium, 8 AI cars: ns per car-step, grid memory and
 //                   build time for each grid cell edge;
 //   track_size.csv  1,384 to ~1,000,000 triangles, two ways: the stadium
-//                   with a finer floor ("refined") and n x n stadiums side by
-//                   side ("tiled"): ns per car-step of 8 AI cars, grid build;
+//                   with a finer floor ("refined", and "refined_cell5" with
+//                   5 m grid cells) and n x n stadiums side by side
+//                   ("tiled"): ns per car-step of 8 AI cars, grid build;
 //   cars.csv        1 to 1,000 AI cars on the stadium with car-car
 //                   collisions: ns per tick, and the part spent in collide_cars.
-// Only step() is timed; the AI's inputs are computed outside the clock.
+// Only step() is timed (thread CPU time); the AI's inputs are computed
+// outside the clock.
 #include "bench/study.hpp"
 #include "jetrace/driver_ai.hpp"
 #include "jetrace/offline_race.hpp"
@@ -23,19 +25,23 @@ struct Timing {
     double collide_ns_per_tick = 0;
 };
 
-// Steps `ticks` ticks of `state` with AI inputs; times step() (and, on a
-// copy, collide_cars) only.
-Timing race(const Scene& sc, WorldState state, int ticks, bool time_collide) {
-    const int n = static_cast<int>(state.cars.size());
+// Steps `ticks` ticks of `state` with AI inputs. The inputs are recorded in
+// a first, untimed run; the timed run replays them from the same state (the
+// step is deterministic, so it follows the same trajectory) and times the
+// whole loop in thread CPU time. collide_cars is timed per tick on a copy of
+// the cars (wall clock; includes about 20 ns of clock overhead per tick).
+Timing race(const Scene& sc, const WorldState& start, int ticks, bool time_collide) {
+    const int n = static_cast<int>(start.cars.size());
+    const auto un = static_cast<std::size_t>(n);
     const std::vector<DriverSkill> skills = skills_for(n, 1);
-    std::vector<Input> inputs(static_cast<std::size_t>(n));
+    std::vector<Input> inputs(un * static_cast<std::size_t>(ticks));
     StepScratch scratch;
-    double ns = 0, collide_ns = 0;
+    WorldState state = start;
+    double collide_ns = 0;
     for (int t = 0; t < ticks; ++t) {
-        for (int i = 0; i < n; ++i) inputs[static_cast<std::size_t>(i)] = drive(sc, state, i, skills[static_cast<std::size_t>(i)]);
-        const auto t0 = Clock::now();
-        step(sc, state, inputs, scratch);
-        ns += ns_since(t0);
+        Input* in = &inputs[un * static_cast<std::size_t>(t)];
+        for (int i = 0; i < n; ++i) in[i] = drive(sc, state, i, skills[static_cast<std::size_t>(i)]);
+        step(sc, state, std::span<const Input>(in, un), scratch);
         if (time_collide) {
             std::vector<CarState> copy = state.cars;
             const auto t1 = Clock::now();
@@ -43,7 +49,13 @@ Timing race(const Scene& sc, WorldState state, int ticks, bool time_collide) {
             collide_ns += ns_since(t1);
         }
     }
-    return {ns / ticks, collide_ns / ticks};
+    state = start;
+    StepScratch timed_scratch;
+    const CpuTimer timer;
+    for (int t = 0; t < ticks; ++t) {
+        step(sc, state, std::span<const Input>(&inputs[un * static_cast<std::size_t>(t)], un), timed_scratch);
+    }
+    return {timer.ns() / ticks, collide_ns / ticks};
 }
 
 constexpr int kRaceCars = 8;
@@ -53,8 +65,6 @@ double ns_per_car_step(const Scene& sc, int ticks, int repeats) {
     for (int r = 0; r < repeats; ++r) v.push_back(race(sc, start_race(sc, kRaceCars, 1), ticks, false).ns_per_tick / kRaceCars);
     return median(v);
 }
-
-double ms_since(Clock::time_point t0) { return ns_since(t0) * 1e-6; }
 
 // Cars on a 6 m lattice on the stadium's straights (1,542 places).
 WorldState lattice(const Scene& sc, int n) {
@@ -89,9 +99,9 @@ void study_scale(const StudyOptions& o) {
         std::vector<Scene> scenes;
         std::vector<double> build_ms;
         for (double cell : cells) {
-            const auto t0 = Clock::now();
+            const CpuTimer timer;
             scenes.push_back(Scene::make(stadium, ps, cell));
-            build_ms.push_back(ms_since(t0));
+            build_ms.push_back(timer.ns() * 1e-6);
         }
         // Timing rounds over every cell size; medians reported.
         std::vector<std::vector<double>> ns(scenes.size());
@@ -107,16 +117,21 @@ void study_scale(const StudyOptions& o) {
     {
         Csv csv(o.out_dir, "track_size.csv",
                 {"kind", "parameter", "triangles", "cell_m", "grid_bytes", "build_ms", "ns_per_car_step"});
-        const auto measure = [&](const char* kind, double param, const Track& track) {
-            const auto t0 = Clock::now();
-            const Scene sc = Scene::make(track, ps);
-            const double build = ms_since(t0);
+        const auto measure = [&](const char* kind, double param, const Track& track, double cell_m = 0.0) {
+            const CpuTimer timer;
+            const Scene sc = Scene::make(track, ps, cell_m);
+            const double build = timer.ns() * 1e-6;
             csv.cell(kind).cell(param).cell(track.triangles.size()).cell(sc.grid.cell_size_m());
             csv.cell(sc.grid.memory_bytes()).cell(build).cell(ns_per_car_step(sc, ticks, o.repeats)).end();
         };
         const std::vector<double> floors = o.quick ? std::vector<double>{35, 5, 1.15}
                                                    : std::vector<double>{35, 17.5, 10, 5, 2.5, 1.6, 1.15};
-        for (double f : floors) measure("refined", f, lab::refined_stadium(f));
+        for (double f : floors) {
+            const Track t = lab::refined_stadium(f);
+            measure("refined", f, t);
+            // The same with 5 m cells (below the rule's 4 radii): fewer candidates, 8x the cells.
+            if (f <= 5.0) measure("refined_cell5", f, t, 5.0);
+        }
         const std::vector<int> tiles = o.quick ? std::vector<int>{1, 5, 27} : std::vector<int>{1, 2, 4, 8, 14, 20, 27};
         for (int n : tiles) measure("tiled", n, lab::tiled_stadium(n));
     }
