@@ -30,7 +30,7 @@ void record(const char* key, double v) { ::testing::Test::RecordProperty(key, st
 // m/s"; that is not what this core does (no probed phase or offset passes
 // below r/dt = 300 m/s). The test finds the limit and pins it between r/dt
 // and r/dt + 0.5%.
-TEST(FailureModes, DiscretePushOutTunnelsBelowROverDt) {
+TEST(FailureModes, DiscretePushOutTunnelsAtROverDt) {
     PhysicsSettings ps = lab_physics();
     ASSERT_TRUE(set_swept(ps, false));
     const Scene sc = make_lab_scene(thin_wall_mesh(), ps);

@@ -106,7 +106,7 @@ set logscale xy
 set xlabel 'step rate (Hz)'
 set ylabel 'speed (m/s)'
 set xtics (30, 60, 120, 240, 480)
-set key top left
+set key bottom right
 plot D.'/tunnelling.csv' using 2:(strcol(1) eq 'discrete' ? \$3 : 1/0) smooth unique with linespoints pt 7 title 'discrete push-out', \
      D.'/tunnelling.csv' using 2:(strcol(1) eq 'swept' ? \$3 : 1/0) smooth unique with linespoints pt 5 title 'swept', \
      D.'/tunnelling.csv' using 2:(strcol(1) eq 'discrete' ? \$6 : 1/0) with lines dt 2 title 'r / dt', \

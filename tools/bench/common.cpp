@@ -12,6 +12,15 @@ double thread_cpu_ns() {
     return static_cast<double>(ts.tv_sec) * 1e9 + static_cast<double>(ts.tv_nsec);
 }
 
+double cpu_timer_overhead_ns() {
+    static const double overhead = [] {
+        std::vector<double> v;
+        for (int i = 0; i < 1001; ++i) v.push_back(CpuTimer().ns());
+        return median(v);
+    }();
+    return overhead;
+}
+
 double median(std::vector<double> v) {
     if (v.empty()) return 0.0;
     std::sort(v.begin(), v.end());
