@@ -32,7 +32,7 @@ void record(const char* key, double v) { ::testing::Test::RecordProperty(key, st
 // and r/dt + 0.5%.
 TEST(FailureModes, DiscretePushOutTunnelsAtROverDt) {
     PhysicsSettings ps = lab_physics();
-    ASSERT_TRUE(set_swept(ps, false));
+    set_swept(ps, false);
     const Scene sc = make_lab_scene(thin_wall_mesh(), ps);
     const TunnelLimit lim = tunnelling_limit(sc, 50.0, 4000.0, Approach{});
     record("discrete_holds_to_mps", lim.holds_to_mps);
@@ -46,10 +46,9 @@ TEST(FailureModes, DiscretePushOutTunnelsAtROverDt) {
     EXPECT_TRUE(passes_through(sc, lim.first_pass_mps, Approach{}));
 }
 
-// The default mode (swept, once the core has it) holds to 2,000 m/s at every
+// The default mode (swept) holds to 2,000 m/s at every
 // probed phase and offset.
 TEST(FailureModes, DefaultModeHoldsTo2000mps) {
-    if (!kSweptAvailable) GTEST_SKIP() << "the core has no collision_mode yet (swept mode not merged)";
     const PhysicsSettings ps = lab_physics();
     const Scene sc = make_lab_scene(thin_wall_mesh(), ps);
     for (double v = 50.0; v <= 2000.0; v *= 1.05) EXPECT_FALSE(passes_through(sc, v, Approach{})) << v << " m/s";

@@ -11,7 +11,7 @@
 #include "jetrace/settings.hpp"
 #include "jetrace/track.hpp"
 #include "jetrace/world.hpp"
-#include "test_scenes.hpp"
+#include "support/test_scenes.hpp"
 
 #include <gtest/gtest.h>
 

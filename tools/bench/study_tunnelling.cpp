@@ -1,7 +1,7 @@
 // Discrete push-out against the swept (continuous) test (issue 4): the
 // highest speed at which a car sliding into a zero-thickness wall never ends
 // a step beyond it, over a grid of approach phases and offsets, per step
-// rate. The swept rows appear once the core has PhysicsSettings::collision_mode.
+// rate, for both collision modes.
 #include "bench/study.hpp"
 #include "lab/probes.hpp"
 
@@ -21,7 +21,7 @@ void study_tunnelling(const StudyOptions& o) {
         for (int hz : {30, 60, 120, 240, 480}) {
             PhysicsSettings ps = lab::lab_physics();
             ps.tick_rate_hz = hz;
-            if (!lab::set_swept(ps, swept)) continue;  // no swept mode in this core yet
+            lab::set_swept(ps, swept);
             const Scene sc = lab::make_lab_scene(lab::thin_wall_mesh(), ps);
             const lab::TunnelLimit lim = lab::tunnelling_limit(sc, 10.0, hi_mps, approach, ratio);
             const bool def = hz == defaults.tick_rate_hz && std::string(lab::mode_name(ps)) == lab::mode_name(defaults);

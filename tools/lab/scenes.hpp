@@ -7,6 +7,7 @@
 #include "jetrace/builtin_tracks.hpp"
 #include "jetrace/world.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -25,6 +26,15 @@ struct Mesh {
     /// A zero-thickness wall in the plane x = x0, y in [0, height_m], z in
     /// [-half_m, half_m], split into squares of about `cell_m` (normal -X).
     void wall_x(double x0, double height_m, double half_m, double cell_m);
+
+    /// One quad each: the floor y = 0 over [-half_m, half_m]^2; a wall in the
+    /// plane x = x0 (normal -X) or z = z0 (normal -Z), y in [0, height_m],
+    /// the other coordinate in [-half_m, half_m].
+    void floor(double half_m) { floor(-half_m, half_m, -half_m, half_m, 2 * half_m); }
+    void wall_x(double x0, double height_m, double half_m) { wall_x(x0, height_m, half_m, std::max(height_m, 2 * half_m)); }
+    void wall_z(double z0, double height_m, double half_m) {
+        quad(Vec3(-half_m, 0, z0), Vec3(-half_m, height_m, z0), Vec3(half_m, height_m, z0), Vec3(half_m, 0, z0));
+    }
 };
 
 /// Physics for the custom scenes: the defaults, except that a car is never
@@ -45,37 +55,14 @@ double min_distance(const Track& track, const Vec3& p);
 
 // ------------------------------------------------------------ collision mode
 
-/// True once the core has PhysicsSettings::collision_mode (the lead's swept
-/// mode); until then only the discrete push-out exists.
-template <class S>
-concept HasCollisionMode = requires(S s) { s.collision_mode; };
-
-inline constexpr bool kSweptAvailable = HasCollisionMode<PhysicsSettings>;
-
-/// Sets the collision mode when the core has one (no-op for discrete
-/// otherwise). Returns false if `swept` was asked for but does not exist.
-template <class S = PhysicsSettings>
-bool set_swept(S& s, bool swept) {
-    if constexpr (HasCollisionMode<S>) {
-        using Mode = decltype(s.collision_mode);
-        s.collision_mode = swept ? Mode::swept : Mode::discrete;
-        return true;
-    } else {
-        return !swept;
-    }
+/// Sets the collision mode: the swept test before the push-out, or the
+/// seed's discrete push-out alone.
+inline void set_swept(PhysicsSettings& s, bool swept) {
+    s.collision_mode = swept ? CollisionMode::swept : CollisionMode::discrete;
 }
 
-/// "swept" or "discrete" for the settings' mode ("discrete" before the mode exists).
-template <class S = PhysicsSettings>
-const char* mode_name(const S& s) {
-    if constexpr (HasCollisionMode<S>) {
-        using Mode = decltype(s.collision_mode);
-        return s.collision_mode == Mode::swept ? "swept" : "discrete";
-    } else {
-        (void)s;
-        return "discrete";
-    }
-}
+/// "swept" or "discrete".
+inline const char* mode_name(const PhysicsSettings& s) { return to_string(s.collision_mode); }
 
 // ------------------------------------------------------------------ tracks
 

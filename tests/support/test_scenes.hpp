@@ -12,6 +12,8 @@
 #include "jetrace/hovercar.hpp"
 #include "jetrace/track.hpp"
 #include "jetrace/world.hpp"
+#include "lab/scenes.hpp"
+#include "test_seed.hpp"
 
 #include <gtest/gtest.h>
 
@@ -29,12 +31,7 @@ namespace jetrace::test {
 
 // ---------------------------------------------------------------- seeds
 
-inline std::uint64_t base_seed() {
-    if (const char* e = std::getenv("JETRACE_TEST_SEED"); e != nullptr && *e != '\0') {
-        return std::strtoull(e, nullptr, 0);
-    }
-    return 0x6a65747261636502ull;
-}
+inline std::uint64_t base_seed() { return test_seed(0x6a65747261636502ull); }
 
 #define JETRACE_SEEDED_RNG(rng)                                                                    \
     const std::uint64_t rng##_seed = ::jetrace::test::base_seed();                                                  \
@@ -55,54 +52,14 @@ inline std::string str(const Vec3& v) {
     return o.str();
 }
 
-struct Mesh {
-    std::vector<Vec3> vertices;
-    std::vector<std::uint32_t> indices;
-
-    // Two triangles (a, b, c) and (a, c, d); the normal follows the right-hand rule.
-    void quad(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
-        const auto base = static_cast<std::uint32_t>(vertices.size());
-        vertices.insert(vertices.end(), {a, b, c, d});
-        indices.insert(indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
-    }
-    // The floor y = 0 over [-h, h]^2, normal +Y.
-    void floor(double h) { quad(Vec3(-h, 0, -h), Vec3(-h, 0, h), Vec3(h, 0, h), Vec3(h, 0, -h)); }
-    // A wall in the plane x = x0 from y = 0 to `height`, z in [-h, h], normal -X.
-    void wall_x(double x0, double height, double h) {
-        quad(Vec3(x0, 0, -h), Vec3(x0, 0, h), Vec3(x0, height, h), Vec3(x0, height, -h));
-    }
-    // A wall in the plane z = z0 from y = 0 to `height`, x in [-h, h], normal -Z.
-    void wall_z(double z0, double height, double h) {
-        quad(Vec3(-h, 0, z0), Vec3(-h, height, z0), Vec3(h, height, z0), Vec3(h, 0, z0));
-    }
-};
-
-// Settings for the custom scenes: the default physics, except that a car
-// standing still is not respawned for lack of progress during long runs.
-inline PhysicsSettings test_physics() {
-    PhysicsSettings ps;
-    ps.no_progress_s = 3599.0;
-    return ps;
-}
-
-// A track from `mesh` with two gates far away (so race rules run but never
-// fire) and one spawn at the origin, resting on a floor at y = 0.
-inline Scene make_scene(const Mesh& mesh, const PhysicsSettings& ps, double kill_height = -1e5) {
-    const Pose spawn{Vec3(0, kRest, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
-    Checkpoint g0;
-    g0.center = Vec3(0, 10, 20000);
-    g0.normal = Vec3(0, 0, 1);
-    g0.across = Vec3(-1, 0, 0);
-    g0.up = Vec3(0, 1, 0);
-    g0.respawn = spawn;
-    Checkpoint g1 = g0;
-    g1.center = Vec3(0, 10, -20000);
-    g1.normal = Vec3(0, 0, -1);
-    g1.across = Vec3(1, 0, 0);
-    Track track = make_track("test", mesh.vertices, mesh.indices, {g0, g1}, {spawn}, kill_height);
-    EXPECT_EQ(validate(track), "");
+// Meshes, physics and scenes come from the study's lab (tools/lab), so that
+// a scenario is written once for the tests and jetrace-bench.
+using lab::Mesh;
+using lab::min_distance;
+inline PhysicsSettings test_physics() { return lab::lab_physics(); }
+inline Scene make_scene(const Mesh& mesh, const PhysicsSettings& ps) {
     EXPECT_EQ(validate(ps), "");
-    return Scene::make(std::move(track), ps);
+    return lab::make_lab_scene(mesh, ps);
 }
 
 // A one-car world with the car at rest on `pose`, then given `velocity`
@@ -121,13 +78,6 @@ inline void step1(const Scene& sc, WorldState& st, const Input& in, StepScratch&
     step(sc, st, std::span<const Input>(&in, 1), scratch);
 }
 
-inline double distance_to(const Triangle& t, const Vec3& p) { return (p - closest_point_on_triangle(p, t).point).norm(); }
-
-inline double min_distance(const Track& track, const Vec3& p) {
-    double d = 1e300;
-    for (const Triangle& t : track.triangles) d = std::min(d, distance_to(t, p));
-    return d;
-}
 
 inline std::uint64_t bits(double x) { return std::bit_cast<std::uint64_t>(x); }
 
