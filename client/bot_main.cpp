@@ -5,6 +5,7 @@
 #include "jetrace/builtin_tracks.hpp"
 #include "jetrace/client/race_client.hpp"
 #include "jetrace/driver_ai.hpp"
+#include "jetrace/net/address.hpp"
 #include "jetrace/offline_race.hpp"
 #include "jetrace/track_io.hpp"
 
@@ -90,14 +91,12 @@ int main(int argc, char** argv) {
     spdlog::set_level(spdlog::level::from_str(log_level));
     spdlog::set_pattern("[%H:%M:%S.%e] [bot] [%l] %v");
 
-    const auto colon = connect.rfind(':');
-    int port = 0;
-    if (colon == std::string::npos || colon == 0 || std::sscanf(connect.c_str() + colon + 1, "%d", &port) != 1 ||
-        port < 1 || port > 65535) {
+    std::string host;
+    std::uint16_t port = 0;
+    if (!jetrace::net::split_host_port(connect, host, port)) {
         std::fprintf(stderr, "jetrace-bot: --connect must be HOST:PORT, got '%s'\n", connect.c_str());
         return 2;
     }
-    const std::string host = connect.substr(0, colon);
     std::vector<std::vector<std::uint8_t>> tokens;
     std::string error;
     if (!read_tokens(token_texts, token_file, tokens, error)) {
@@ -159,7 +158,7 @@ int main(int argc, char** argv) {
         // Probe: the first bot's welcome names the track; the built-in one
         // with the same identity is chosen.
         scene = nullptr;
-        auto probe = jetrace::net::connect_enet(host, static_cast<std::uint16_t>(port), 5000, error);
+        auto probe = jetrace::net::connect_enet(host, port, 5000, error);
         if (!probe) {
             std::fprintf(stderr, "jetrace-bot: %s\n", error.c_str());
             return 1;

@@ -2,29 +2,16 @@
 // 127.0.0.1 (ports chosen at run time), in one process, on a clock that runs
 // faster than real time. Conditions (loss, latency, jitter, duplication,
 // reordering) are injected in the transport on both sides.
-#include "jetrace/builtin_tracks.hpp"
-#include "jetrace/client/race_client.hpp"
-#include "jetrace/driver_ai.hpp"
-#include "jetrace/offline_race.hpp"
-#include "jetrace/server/race_server.hpp"
+#include "support/live_race.hpp"
 
 #include <gtest/gtest.h>
 #include <spdlog/cfg/env.h>
 #include <spdlog/spdlog.h>
 
-#include <chrono>
 #include <cstdio>
-#include <filesystem>
 #include <map>
-#include <memory>
-#include <thread>
-
-#include <unistd.h>
 
 namespace {
-
-using jetrace::client::RaceClient;
-using jetrace::server::RaceServer;
 
 struct RaceOutcome {
     bool server_done = false;
@@ -45,116 +32,53 @@ struct RaceOutcome {
 RaceOutcome race(int bots, const jetrace::net::Conditions* conditions, int laps, int races = 1) {
     spdlog::cfg::load_env_levels();  // SPDLOG_LEVEL=debug shows every correction
     RaceOutcome out;
-    jetrace::Track track;
-    jetrace::make_builtin_track("ring", track);
-    const jetrace::Scene scene = jetrace::Scene::make(std::move(track), jetrace::PhysicsSettings{});
-
-    const std::string replay_path =
-        (std::filesystem::temp_directory_path() / ("jetrace_loopback_" + std::to_string(::getpid()) + ".replay")).string();
-    jetrace::server::ServerConfig cfg;
-    cfg.laps = laps;
-    cfg.max_players = bots;
-    cfg.min_players = bots;
-    cfg.races = races;
-    cfg.countdown_s = 1.0;
-    cfg.results_pause_s = 1.0;
-    cfg.record_path = replay_path;
-    cfg.finish_window_s = 120;
-
-    std::string error;
-    jetrace::net::ServerConfig ncfg;
-    ncfg.bind = "127.0.0.1";
-    ncfg.port = 0;
-    ncfg.max_connections = static_cast<std::size_t>(bots) + 4;
-    std::unique_ptr<jetrace::net::Transport> server_net = jetrace::net::listen_enet(ncfg, error);
-    EXPECT_TRUE(server_net) << error;
-    if (!server_net) return out;
-    const std::uint16_t port = server_net->local_port();
-    if (conditions) server_net = jetrace::net::condition(std::move(server_net), *conditions);
-    RaceServer server(cfg, scene, *server_net);
-    server.on_race_end = [&](const jetrace::server::RaceEnd& e) {
-        out.end = e;
-        out.ends.push_back(e);
-    };
-
-    std::vector<std::unique_ptr<jetrace::net::Transport>> nets;
-    std::vector<std::unique_ptr<RaceClient>> clients;
-    const auto skills = jetrace::skills_for(bots, 11);
-    for (int i = 0; i < bots; ++i) {
-        auto t = jetrace::net::connect_enet("127.0.0.1", port, 5000, error);
-        EXPECT_TRUE(t) << error;
-        if (!t) return out;
-        if (conditions) {
-            jetrace::net::Conditions c = *conditions;
-            c.seed = conditions->seed + 1000 + static_cast<std::uint64_t>(i);
-            t = jetrace::net::condition(std::move(t), c);
-        }
-        jetrace::client::ClientConfig cc;
-        cc.name = "bot" + std::to_string(i);
-        clients.push_back(std::make_unique<RaceClient>(cc, scene, *t));
-        nets.push_back(std::move(t));
-    }
+    jetrace::test::LiveRaceOptions o;
+    o.bots = bots;
+    o.laps = laps;
+    o.races = races;
+    o.spare_connections = 4;
+    o.conditions = conditions;
+    jetrace::test::LiveRace live(o);
+    EXPECT_TRUE(live.ok()) << live.error;
+    if (!live.ok()) return out;
 
     // Server hashes by tick, to check clients decode exactly what it had.
     std::map<std::uint32_t, std::uint64_t> server_hashes;
-    const auto wall_start = std::chrono::steady_clock::now();
-    std::uint64_t now_us = 0;
-    while (!server.done()) {
-        now_us += 1000;  // virtual 1 ms per iteration: faster than real time
-        server.update(now_us);
-        if (server.phase() == jetrace::proto::RacePhase::racing) {
-            server_hashes[server.world().tick] = jetrace::state_hash(server.world());
-        }
-        for (int i = 0; i < bots; ++i) {
-            const auto skill = skills[static_cast<std::size_t>(i)];
-            clients[static_cast<std::size_t>(i)]->update(
-                now_us, [&](const jetrace::Scene& sc, const jetrace::WorldState& w, int slot) {
-                    return jetrace::drive(sc, w, slot, skill);
-                });
-            const jetrace::WorldState& a = clients[static_cast<std::size_t>(i)]->authoritative();
-            const auto it = server_hashes.find(a.tick);
-            if (it != server_hashes.end() && a.tick > 0 && (now_us / 1000) % 97 == 0) {
-                ++out.hash_checks;
-                out.hash_mismatches += jetrace::state_hash(a) != it->second ? 1 : 0;
+    out.server_done = live.run(
+        [&] {
+            const auto& server = live.server();
+            if (server.phase() == jetrace::proto::RacePhase::racing) {
+                server_hashes[server.world().tick] = jetrace::state_hash(server.world());
             }
-        }
-        if (server_hashes.size() > 4000) server_hashes.erase(server_hashes.begin());
-        if (server.phase() == jetrace::proto::RacePhase::racing && bots > 1) {
-            const auto& a = clients[0]->authoritative();
-            if (a.cars.size() > 1 && a.cars[1].active && !a.cars[1].finished) {
-                const double gap = (clients[0]->visual_position(1) - a.cars[1].position).norm();
-                out.max_interpolation_gap_m = std::max(out.max_interpolation_gap_m, gap);
-                ++out.interpolation_checks;
+            for (int i = 0; i < bots; ++i) {
+                const jetrace::WorldState& a = live.bot(i).authoritative();
+                const auto it = server_hashes.find(a.tick);
+                if (it != server_hashes.end() && a.tick > 0 && (live.now_us() / 1000) % 97 == 0) {
+                    ++out.hash_checks;
+                    out.hash_mismatches += jetrace::state_hash(a) != it->second ? 1 : 0;
+                }
             }
-        }
-        if (now_us % 5000 == 0) std::this_thread::sleep_for(std::chrono::microseconds(200));
-        const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-        if (wall > 240.0 || now_us > 600'000'000u) break;  // bounded: never hang CI
+            if (server_hashes.size() > 4000) server_hashes.erase(server_hashes.begin());
+            if (server.phase() == jetrace::proto::RacePhase::racing && bots > 1) {
+                const auto& a = live.bot(0).authoritative();
+                if (a.cars.size() > 1 && a.cars[1].active && !a.cars[1].finished) {
+                    const double gap = (live.bot(0).visual_position(1) - a.cars[1].position).norm();
+                    out.max_interpolation_gap_m = std::max(out.max_interpolation_gap_m, gap);
+                    ++out.interpolation_checks;
+                }
+            }
+        },
+        240.0);
+    out.ends = live.ends;
+    if (!live.ends.empty()) out.end = live.ends.back();
+    for (int i = 0; i < bots; ++i) {
+        out.stats.push_back(live.bot(i).stats());
+        out.finished.push_back(live.finished(i));
     }
-    // Let the final results and goodbyes arrive.
-    for (int k = 0; k < 300; ++k) {
-        now_us += 1000;
-        server.update(now_us);
-        for (auto& c : clients) c->update(now_us, {});
-        std::this_thread::sleep_for(std::chrono::microseconds(200));
-    }
-    out.server_done = server.done();
-    for (auto& c : clients) {
-        out.stats.push_back(c->stats());
-        bool fin = false;
-        for (const auto& s : c->results().standings) {
-            if (s.slot == c->slot()) fin = s.finished;
-        }
-        out.finished.push_back(fin);
-    }
-    jetrace::Replay replay;
-    if (jetrace::read_replay(replay_path, replay, error) &&
-        jetrace::check_replay(scene, replay, jetrace::physics_fingerprint(scene.physics), error)) {
-        out.replay_ok = true;
-        out.replay_hash = jetrace::state_hash(jetrace::run_replay(scene, replay));
-    }
-    EXPECT_TRUE(out.replay_ok) << error;
-    std::filesystem::remove(replay_path);
+    const auto replay = live.replay_hash();
+    out.replay_ok = replay.has_value();
+    out.replay_hash = replay.value_or(0);
+    EXPECT_TRUE(out.replay_ok) << "the replay is unreadable";
     return out;
 }
 
@@ -233,4 +157,18 @@ TEST(Loopback, TwoRacesInARow) {
     const double second = o.ends[1].standings[0].finish_time_s;
     EXPECT_LT(second, first * 1.3) << "the second race's winner was much slower: inputs lost after the restart?";
     for (const auto& st : o.stats) EXPECT_EQ(st.corrections, 0u);
+}
+
+TEST(Loopback, LongLatencyTheClientsClockDidNotExpect) {
+    // 100 ms each way on the virtual clock while ENet measures a loopback
+    // round trip of about 0 ms: every client starts far too little ahead and
+    // must jump. Jumping again on every snapshot before the first jump shows
+    // in the feedback would overshoot by hundreds of ticks.
+    jetrace::net::Conditions c;
+    c.latency_ms = 100;
+    c.seed = 9;
+    const RaceOutcome o = race(4, &c, 1);
+    report(o);
+    ASSERT_TRUE(o.server_done) << "the race did not end in time";
+    for (std::size_t i = 0; i < o.finished.size(); ++i) EXPECT_TRUE(o.finished[i]) << "bot " << i << " did not finish";
 }

@@ -7,6 +7,7 @@
 #include "jetrace/proto/messages.hpp"
 #include "jetrace/proto/world_codec.hpp"
 #include "jetrace_generated.h"
+#include "support/wire_craft.hpp"
 
 #include <gtest/gtest.h>
 
@@ -146,53 +147,11 @@ bool decodes(std::span<const std::uint8_t> bytes, std::string* why = nullptr) {
 /// the order of jp::Message's alternatives.
 const char* const kIds[] = {"JTR1", "JWLC", "JTR1", "JINP", "JSNP", "JRST", "JRES", "JBYE"};
 
-/// Finishes a hand-built message (to build messages encode() refuses to),
-/// with the builder's padding.
-template <typename T>
-std::vector<std::uint8_t> finish(fb::FlatBufferBuilder& b, fb::Offset<T> root, const char* id) {
-    b.Finish(root, id);
-    return {b.GetBufferPointer(), b.GetBufferPointer() + b.GetSize()};
-}
-
-/// Hello and Refuse: a hand-built Envelope.
-std::vector<std::uint8_t> envelope(fb::FlatBufferBuilder& b, w::Handshake type, fb::Offset<void> body) {
-    w::FinishEnvelopeBuffer(b, w::CreateEnvelope(b, type, body));
-    return {b.GetBufferPointer(), b.GetBufferPointer() + b.GetSize()};
-}
-
-/// An independent writer of the bit conventions (docs/PROTOCOL.md, "Bit
-/// conventions"), to build payloads by hand.
-struct Bits {
-    std::vector<bool> v;
-    Bits& u(std::uint64_t x, int n) {
-        for (int i = n - 1; i >= 0; --i) v.push_back(((x >> i) & 1u) != 0);
-        return *this;
-    }
-    Bits& ue(std::uint64_t x, int k) {
-        const std::uint64_t y = x + (std::uint64_t{1} << k);
-        const int width = static_cast<int>(std::bit_width(y));
-        return u(0, width - 1 - k).u(y, width);
-    }
-    Bits& se(std::int64_t x, int k) {
-        return ue(x >= 0 ? static_cast<std::uint64_t>(x) * 2 : static_cast<std::uint64_t>(-x) * 2 - 1, k);
-    }
-    std::vector<std::uint8_t> bytes(std::uint8_t padding = 0) const {
-        std::vector<std::uint8_t> out((v.size() + 7) / 8, 0);
-        for (std::size_t i = 0; i < v.size(); ++i)
-            if (v[i]) out[i / 8] |= static_cast<std::uint8_t>(0x80u >> (i % 8));
-        if (v.size() % 8 != 0) out.back() |= static_cast<std::uint8_t>(padding & ((1u << (8 - v.size() % 8)) - 1));
-        return out;
-    }
-};
-
-std::vector<std::uint8_t> input_batch(const std::vector<std::uint8_t>& payload) {
-    fb::FlatBufferBuilder b;
-    return finish(b, w::CreateInputBatch(b, b.CreateVector(payload)), "JINP");
-}
-std::vector<std::uint8_t> snapshot_message(const std::vector<std::uint8_t>& payload) {
-    fb::FlatBufferBuilder b;
-    return finish(b, w::CreateSnapshot(b, b.CreateVector(payload)), "JSNP");
-}
+using jetrace::test::Bits;
+using jetrace::test::envelope;
+using jetrace::test::finish;
+using jetrace::test::input_batch;
+using jetrace::test::snapshot_message;
 
 }  // namespace
 
@@ -521,7 +480,7 @@ TEST(ProtoMessages, RandomPayloadsNeverCrash) {
 TEST(ProtoMessages, PhysicsHashCoversEveryField) {
     // A new field in PhysicsSettings changes its size: add it to the hash
     // (jetrace::physics_fingerprint, which jp::physics_hash is) and below.
-    EXPECT_EQ(sizeof(jetrace::PhysicsSettings), 128u) << "PhysicsSettings changed: update the physics hash";
+    EXPECT_EQ(sizeof(jetrace::PhysicsSettings), 136u) << "PhysicsSettings changed: update the physics hash";
     const jetrace::PhysicsSettings base;
     const std::uint64_t h = jp::physics_hash(base);
     EXPECT_EQ(h, jp::physics_hash(jetrace::PhysicsSettings{}));
@@ -535,7 +494,8 @@ TEST(ProtoMessages, PhysicsHashCoversEveryField) {
         [](S& s) { s.ride_min_cos = 0.4; }, [](S& s) { s.no_progress_s = 5.0; },
         [](S& s) { s.resolver_passes = 10; }, [](S& s) { s.resolver_epsilon_m = 1e-3; },
         [](S& s) { s.contact_skin_m = 0.1; }, [](S& s) { s.integrator = jetrace::Integrator::explicit_euler; },
-        [](S& s) { s.quantize_state = false; }};
+        [](S& s) { s.quantize_state = false; }, [](S& s) { s.collision_mode = jetrace::CollisionMode::discrete; },
+        [](S& s) { s.sweep_contacts = 2; }};
     for (std::size_t i = 0; i < mutations.size(); ++i) {
         S s = base;
         mutations[i](s);

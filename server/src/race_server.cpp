@@ -79,7 +79,7 @@ void RaceServer::drop(net::PeerId peer, const std::string& reason) {
 }
 
 void RaceServer::refuse(Client& c, const std::string& name, const std::string& reason) {
-    spdlog::warn("refusing client {} ('{}'): {}", c.peer, name, reason);
+    spdlog::warn("refusing client {} ({}): {}", c.peer, name, reason);
     send(c.peer, net::Channel::reliable, proto::Refuse{reason});
     transport_.disconnect(c.peer);
 }
@@ -212,23 +212,28 @@ void RaceServer::on_inputs(Client& c, const proto::InputBatch& b) {
         (c.acked_snapshot == proto::kNoTick || b.ack_snapshot_tick > c.acked_snapshot)) {
         c.acked_snapshot = b.ack_snapshot_tick;
     }
-    if (c.spectating || c.slot < 0 ||
-        (phase_ != proto::RacePhase::countdown && phase_ != proto::RacePhase::racing)) {
+    if (phase_ != proto::RacePhase::countdown && phase_ != proto::RacePhase::racing) return;
+    if (c.spectating || c.slot < 0) {
+        note(c, kInputWhileSpectating, "inputs while spectating (no car until the next race); ignored");
         return;
     }
     const std::uint64_t now_tick = world_.tick;
     // The newest tick the client has produced an input for, late or not: the
-    // margin fed back in snapshots tells it to run further ahead.
-    const std::uint64_t newest = std::uint64_t{b.first_tick} + b.inputs.size() - 1;
-    if (newest <= now_tick + static_cast<std::uint64_t>(config_.max_input_lead_ticks) &&
-        (c.newest_input_tick == proto::kNoTick || newest > c.newest_input_tick)) {
+    // margin fed back in snapshots tells it to run further ahead. Beyond the
+    // lead limit it counts as the limit, so a client that ran too far ahead
+    // learns it (and slows down) instead of hearing stale news forever.
+    const std::uint64_t newest = std::min(std::uint64_t{b.first_tick} + b.inputs.size() - 1,
+                                          now_tick + static_cast<std::uint64_t>(config_.max_input_lead_ticks));
+    if (c.newest_input_tick == proto::kNoTick || newest > c.newest_input_tick) {
         c.newest_input_tick = static_cast<std::uint32_t>(newest);
     }
     for (std::size_t i = 0; i < b.inputs.size(); ++i) {
         const std::uint64_t t = std::uint64_t{b.first_tick} + i;
         if (t < now_tick) continue;  // too late: that tick is simulated
         if (t > now_tick + static_cast<std::uint64_t>(config_.max_input_lead_ticks)) {
-            spdlog::debug("client {}: input for tick {} is too far ahead of {}; dropped", c.peer, t, now_tick);
+            note(c, kInputTooFarAhead,
+                 fmt::format("input for tick {} is more than {} ticks ahead of tick {}; dropped", t,
+                             config_.max_input_lead_ticks, now_tick));
             break;
         }
         const auto tick = static_cast<std::uint32_t>(t);
@@ -236,10 +241,22 @@ void RaceServer::on_inputs(Client& c, const proto::InputBatch& b) {
         // identical, and a client sending different ones for the same tick
         // (a speed hack, or spoiling the inputs already relayed to the
         // others as upcoming) changes nothing.
-        if (c.input_ticks[tick % kInputRing] == tick) continue;
+        if (c.input_ticks[tick % kInputRing] == tick) {
+            if (c.inputs[tick % kInputRing].pack() != b.inputs[i].pack()) {
+                note(c, kConflictingInput,
+                     fmt::format("a second, different input for tick {}; only the first one received counts", tick));
+            }
+            continue;
+        }
         c.inputs[tick % kInputRing] = b.inputs[i];
         c.input_ticks[tick % kInputRing] = tick;
     }
+}
+
+void RaceServer::note(Client& c, Anomaly kind, const std::string& what) {
+    if ((c.logged_anomalies & kind) != 0) return;
+    c.logged_anomalies |= kind;
+    spdlog::warn("client {} ({}): {} (logged once per client)", c.peer, c.name, what);
 }
 
 void RaceServer::broadcast_status() {

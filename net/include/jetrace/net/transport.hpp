@@ -4,6 +4,8 @@
 // the wall clock inside enet_host_service, which is why it stays here.
 #pragma once
 
+#include "jetrace/net/scheduler.hpp"
+
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -82,40 +84,15 @@ std::unique_ptr<Transport> listen_enet(const ServerConfig& config, std::string& 
 std::unique_ptr<Transport> connect_enet(const std::string& host, std::uint16_t port, std::uint32_t timeout_ms,
                                         std::string& error);
 
-/// Network conditions injected on the sending side of a transport.
-struct Conditions {
-    /// Added one-way delay (unit: ms).
-    double latency_ms = 0;
-    /// Uniform random extra delay in [0, jitter_ms] (unit: ms).
-    double jitter_ms = 0;
-    /// Probability that an unreliable datagram is dropped (unit: fraction).
-    double loss = 0;
-    /// Probability that an unreliable datagram is sent twice (unit: fraction).
-    double duplicate = 0;
-    /// Probability that an unreliable datagram is held back behind the next
-    /// one (unit: fraction).
-    double reorder = 0;
-    /// Seed of the conditioner's random choices.
-    std::uint64_t seed = 1;
-};
-
-/// Wraps `inner`: outgoing datagrams wait latency + jitter (by the caller's
-/// clock given to service()); unreliable ones may also be dropped,
-/// duplicated or reordered. Reliable ones keep their order and are never
-/// dropped (the reliability layer is below this decorator).
+/// Wraps `inner`: outgoing datagrams go through a DatagramScheduler (one flow
+/// per peer) on the caller's clock given to service(): they wait latency +
+/// jitter and for the peer's link (`rate_kbps`); unreliable ones may also be
+/// dropped, duplicated or reordered. Reliable ones keep their order and are
+/// never dropped (the reliability layer is below this decorator).
 std::unique_ptr<Transport> condition(std::unique_ptr<Transport> inner, const Conditions& conditions);
 
 /// What a conditioner did so far (counts of datagrams).
-struct ConditionerStats {
-    /// Unreliable datagrams dropped.
-    std::uint64_t dropped = 0;
-    /// Extra copies of unreliable datagrams sent.
-    std::uint64_t duplicated = 0;
-    /// Unreliable datagrams released behind the next one to the same peer.
-    std::uint64_t reordered = 0;
-    /// Datagrams (copies included) held for a while before reaching `inner`.
-    std::uint64_t delayed = 0;
-};
+using ConditionerStats = SchedulerStats;
 
 /// The counters of a transport made by condition(); zeros for any other.
 ConditionerStats conditioner_stats(const Transport& transport);

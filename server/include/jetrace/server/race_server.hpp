@@ -128,7 +128,14 @@ private:
         std::uint32_t last_applied_tick = proto::kNoTick;
         Input last_input{};
         std::uint32_t acked_snapshot = proto::kNoTick;
+        /// Anomalies already logged for this client (bits of Anomaly).
+        std::uint8_t logged_anomalies = 0;
     };
+
+    /// Odd but harmless client behaviour: the data is ignored, the first
+    /// occurrence of each kind per client is logged (a flood never floods the log).
+    enum Anomaly : std::uint8_t { kConflictingInput = 1, kInputTooFarAhead = 2, kInputWhileSpectating = 4 };
+    void note(Client& c, Anomaly kind, const std::string& what);
 
     void on_event(const net::Event& e);
     void on_message(Client& c, const proto::Message& m);

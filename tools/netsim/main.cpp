@@ -1,0 +1,139 @@
+// jetrace-netsim: a UDP proxy that puts latency, jitter, loss, duplication,
+// reordering and a bandwidth limit between clients and a server.
+//
+//   jetrace-netsim --listen 27911 --forward 127.0.0.1:27910 --latency 35 --jitter 30 --loss 0.05
+//
+// Each condition applies to both directions unless given per direction
+// (--up-loss: client -> server, --down-loss: server -> client). On SIGINT,
+// SIGTERM or after --duration it prints one JSON line of counters.
+#include "jetrace/net/address.hpp"
+#include "udp_proxy.hpp"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <optional>
+
+namespace {
+
+std::atomic<int> g_signal{0};
+void on_signal(int sig) { g_signal = sig; }
+
+// One condition as options: --NAME (both directions), --up-NAME, --down-NAME.
+struct ConditionOption {
+    const char* name;
+    const char* help;
+    double lo;
+    double hi;
+    double jetrace::net::Conditions::*field;
+    std::optional<double> both, up, down;
+};
+
+nlohmann::json to_json(const jetrace::netsim::DirectionCounters& d) {
+    return {{"received", d.received},         {"forwarded", d.forwarded},   {"forwarded_bytes", d.forwarded_bytes},
+            {"dropped", d.dropped},           {"duplicated", d.duplicated}, {"reordered", d.reordered},
+            {"rate_limited", d.rate_limited}, {"send_failed", d.send_failed}, {"pending", d.pending}};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"jetrace-netsim: a UDP proxy that degrades the traffic between clients and a server"};
+    jetrace::netsim::ProxyConfig cfg;
+    int listen_port = -1;
+    std::string forward;
+    std::uint64_t seed = 1;
+    double duration_s = 0;
+    std::string log_level = "warn";
+    app.add_option("--listen", listen_port, "UDP port for clients (0: any free port, printed at start)")
+        ->required()
+        ->check(CLI::Range(0, 65535));
+    app.add_option("--bind", cfg.bind, "address to listen on (IPv4)");
+    app.add_option("--forward", forward, "the server, HOST:PORT")->required();
+    std::vector<ConditionOption> conditions = {
+        {"latency", "added one-way delay (ms)", 0, 10000, &jetrace::net::Conditions::latency_ms, {}, {}, {}},
+        {"jitter", "extra delay, uniform in [0, MS] (ms)", 0, 10000, &jetrace::net::Conditions::jitter_ms, {}, {}, {}},
+        {"loss", "probability a datagram is dropped", 0, 1, &jetrace::net::Conditions::loss, {}, {}, {}},
+        {"dup", "probability a datagram is duplicated", 0, 1, &jetrace::net::Conditions::duplicate, {}, {}, {}},
+        {"reorder", "probability a datagram is held behind the next", 0, 1, &jetrace::net::Conditions::reorder, {}, {},
+         {}},
+        {"rate", "bandwidth per client (kbit/s of payload; 0: unlimited)", 0, 1e7, &jetrace::net::Conditions::rate_kbps,
+         {}, {}, {}},
+        {"rate-burst", "token bucket size (bytes)", 1, 1e7, &jetrace::net::Conditions::burst_bytes, {}, {}, {}},
+        {"rate-queue", "longest wait for the link before a datagram is dropped (ms)", 0, 10000,
+         &jetrace::net::Conditions::rate_queue_ms, {}, {}, {}},
+    };
+    for (ConditionOption& o : conditions) {
+        const CLI::Range range(o.lo, o.hi);
+        app.add_option(std::string("--") + o.name, o.both, std::string(o.help) + ", both directions")->check(range);
+        app.add_option(std::string("--up-") + o.name, o.up, std::string(o.help) + ", client -> server")->check(range);
+        app.add_option(std::string("--down-") + o.name, o.down, std::string(o.help) + ", server -> client")
+            ->check(range);
+    }
+    app.add_option("--seed", seed, "seed of the random choices");
+    app.add_option("--duration", duration_s, "exit after this many seconds (0: run until SIGINT/SIGTERM)")
+        ->check(CLI::Range(0.0, 1e7));
+    app.add_option("--idle-timeout", cfg.idle_timeout_s, "forget a client silent for this long (s)")
+        ->check(CLI::Range(1.0, 86400.0));
+    app.add_option("--max-clients", cfg.max_clients, "most clients served at once")->check(CLI::Range(1, 4096));
+    app.add_option("--log-level", log_level, "trace, debug, info, warn, error, off")
+        ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
+    CLI11_PARSE(app, argc, argv);
+    spdlog::set_level(spdlog::level::from_str(log_level));
+    spdlog::set_pattern("[%H:%M:%S.%e] [netsim] [%l] %v");
+
+    if (!jetrace::net::split_host_port(forward, cfg.forward_host, cfg.forward_port)) {
+        std::fprintf(stderr, "jetrace-netsim: --forward must be HOST:PORT, got '%s'\n", forward.c_str());
+        return 2;
+    }
+    cfg.port = static_cast<std::uint16_t>(listen_port);
+    for (const ConditionOption& o : conditions) {
+        if (o.both) cfg.up.*o.field = cfg.down.*o.field = *o.both;
+        if (o.up) cfg.up.*o.field = *o.up;
+        if (o.down) cfg.down.*o.field = *o.down;
+    }
+    cfg.up.seed = seed;
+    cfg.down.seed = seed ^ 0x9E3779B97F4A7C15ull;
+
+    std::string error;
+    auto proxy = jetrace::netsim::UdpProxy::open(cfg, error);
+    if (!proxy) {
+        std::fprintf(stderr, "jetrace-netsim: %s\n", error.c_str());
+        return 1;
+    }
+    std::printf("listening on %s:%u\n", cfg.bind.c_str(), proxy->local_port());
+    std::fflush(stdout);
+    spdlog::info("forwarding to {}:{}; up: {} ms + [0, {}] ms, loss {}, rate {} kbit/s; down: {} ms + [0, {}] ms, "
+                 "loss {}, rate {} kbit/s",
+                 cfg.forward_host, cfg.forward_port, cfg.up.latency_ms, cfg.up.jitter_ms, cfg.up.loss,
+                 cfg.up.rate_kbps, cfg.down.latency_ms, cfg.down.jitter_ms, cfg.down.loss, cfg.down.rate_kbps);
+
+    std::signal(SIGINT, on_signal);
+    std::signal(SIGTERM, on_signal);
+    const auto start = std::chrono::steady_clock::now();
+    int rc = 0;
+    while (g_signal == 0) {
+        if (duration_s > 0 && std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >= duration_s)
+            break;
+        if (!proxy->step(50)) {
+            rc = 1;
+            break;
+        }
+    }
+    const auto c = proxy->counters();
+    nlohmann::json j;
+    j["up"] = to_json(c.up);
+    j["down"] = to_json(c.down);
+    j["clients"] = c.clients;
+    j["clients_expired"] = c.clients_expired;
+    j["clients_refused"] = c.clients_refused;
+    j["wall_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("%s\n", j.dump().c_str());
+    std::fflush(stdout);
+    return rc;
+}
