@@ -79,7 +79,7 @@ void RaceServer::drop(net::PeerId peer, const std::string& reason) {
 }
 
 void RaceServer::refuse(Client& c, const std::string& name, const std::string& reason) {
-    spdlog::warn("refusing client {} ('{}'): {}", c.peer, name, reason);
+    spdlog::warn("refusing client {} ({}): {}", c.peer, name, reason);
     send(c.peer, net::Channel::reliable, proto::Refuse{reason});
     transport_.disconnect(c.peer);
 }
@@ -101,11 +101,10 @@ void RaceServer::on_event(const net::Event& e) {
             spdlog::info("client {} ({}) disconnected", e.peer, it->second.name);
             Client gone = std::move(it->second);
             clients_.erase(it);
-            // Without a Goodbye the connection dropped: the player may come back.
-            const bool may_return = !gone.said_goodbye;
-            release(std::move(gone), may_return,
-                    may_return ? "reconnect token no longer valid: this server keeps no slot for a dropped player"
-                               : "reconnect token no longer valid: the player said goodbye");
+            // Without a Goodbye (which forgets the client at once) the
+            // connection dropped: the player may come back.
+            release(std::move(gone), true,
+                    "reconnect token no longer valid: this server keeps no slot for a dropped player");
             break;
         }
         case net::Event::Type::received: {
@@ -133,9 +132,14 @@ void RaceServer::on_message(Client& c, const proto::Message& m) {
         }
         on_inputs(c, *inputs);
     } else if (std::holds_alternative<proto::Goodbye>(m)) {
+        // Forgotten at once: the slot is free for others now, whenever ENet
+        // reports the disconnect, and the player cannot reconnect.
         spdlog::info("client {} ({}) said goodbye", c.peer, c.name);
-        c.said_goodbye = true;
         transport_.disconnect(c.peer);
+        const auto it = clients_.find(c.peer);
+        Client gone = std::move(it->second);
+        clients_.erase(it);  // `c` is gone too
+        release(std::move(gone), false, "reconnect token no longer valid: the player said goodbye");
     } else {
         drop(c.peer, "protocol violation: clients may not send this message");
     }

@@ -84,10 +84,6 @@ void RaceServer::on_reconnect(Client& c, const proto::Hello& h) {
     }
     // The token is the credential, the name a cross-check: a mismatch is
     // refused and leaves the token valid for its owner.
-    if (owner->said_goodbye) {
-        refuse(c, h.name, "reconnect token no longer valid: the player said goodbye");
-        return;
-    }
     if (owner->hello_name != h.name) {
         refuse(c, h.name, "reconnect token belongs to another player name");
         return;

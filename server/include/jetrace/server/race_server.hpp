@@ -115,8 +115,6 @@ private:
     struct Client {
         net::PeerId peer = 0;
         bool greeted = false;
-        /// Said Goodbye: leaves for good, no reconnect.
-        bool said_goodbye = false;
         std::string name;
         /// Hello.name as sent (a reconnect must send the same).
         std::string hello_name;
