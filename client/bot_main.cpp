@@ -1,4 +1,7 @@
-// jetrace-bot: K AI drivers, each its own client and ENet connection.
+// jetrace-bot: K AI drivers, each its own client and ENet connection. A
+// dropped bot reconnects to its car within --reconnect-grace; with connect
+// tokens (--token, --token-file) it joins a private race.
+#include "jetrace/auth/connect_token.hpp"
 #include "jetrace/builtin_tracks.hpp"
 #include "jetrace/client/race_client.hpp"
 #include "jetrace/driver_ai.hpp"
@@ -12,8 +15,44 @@
 
 #include <chrono>
 #include <cstdio>
+#include <fstream>
 #include <memory>
 #include <thread>
+
+namespace {
+
+/// Reads connect tokens (text form) from --token values and a --token-file
+/// (one a line; blank lines and lines starting with # skipped). False with
+/// a message on an unreadable file or a token that does not parse.
+bool read_tokens(const std::vector<std::string>& given, const std::string& file,
+                 std::vector<std::vector<std::uint8_t>>& out, std::string& error) {
+    std::vector<std::string> texts = given;
+    if (!file.empty()) {
+        std::ifstream in(file);
+        if (!in) {
+            error = "cannot read token file '" + file + "'";
+            return false;
+        }
+        std::string line;
+        while (std::getline(in, line) && texts.size() <= 64) {
+            if (line.find_first_not_of(" \t\r") == std::string::npos || line[0] == '#') continue;
+            texts.push_back(line);
+        }
+    }
+    for (const std::string& t : texts) {
+        const auto bytes = jetrace::auth::from_text(t, jetrace::auth::kMaxTokenBytes);
+        std::string why = "not base64url text";
+        if (bytes && jetrace::auth::parse_connect_token(*bytes, &why)) {
+            out.push_back(*bytes);
+            continue;
+        }
+        error = "connect token " + std::to_string(out.size() + 1) + " is malformed: " + why;
+        return false;
+    }
+    return true;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
     CLI::App app{"jetrace-bot: AI drivers that connect to a jetrace server"};
@@ -26,8 +65,11 @@ int main(int argc, char** argv) {
     double time_scale = 1.0;
     double max_seconds = 3600;
     std::uint64_t seed = 1;
+    double reconnect_grace_s = 10.0;
+    std::vector<std::string> token_texts;
+    std::string token_file;
     app.add_option("--connect", connect, "server address HOST:PORT")->required();
-    app.add_option("--count", count, "number of bots")->check(CLI::Range(1, 64));
+    auto* count_opt = app.add_option("--count", count, "number of bots")->check(CLI::Range(1, 64));
     app.add_option("--name", prefix, "name prefix (bots are PREFIX0, PREFIX1, ...)");
     app.add_option("--races", races, "leave after this many races")->check(CLI::Range(1, 1000000));
     app.add_option("--track", track_spec, "the .obj file the server uses (built-in tracks are found by name)");
@@ -38,6 +80,13 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0.01, 100.0));
     app.add_option("--max-seconds", max_seconds, "give up after this many wall-clock seconds")
         ->check(CLI::Range(1.0, 1e7));
+    app.add_option("--reconnect-grace", reconnect_grace_s,
+                   "after a drop, try to get the car back this long (s; the server's --reconnect-grace; 0: never)")
+        ->check(CLI::Range(0.0, 3600.0));
+    app.add_option("--token", token_texts,
+                   "connect token of a private race (jetrace-token issue); one per bot, which takes its name")
+        ->expected(1, 64);
+    app.add_option("--token-file", token_file, "file of connect tokens, one a line (with --token: after those)");
     CLI11_PARSE(app, argc, argv);
     spdlog::set_level(spdlog::level::from_str(log_level));
     spdlog::set_pattern("[%H:%M:%S.%e] [bot] [%l] %v");
@@ -48,13 +97,35 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "jetrace-bot: --connect must be HOST:PORT, got '%s'\n", connect.c_str());
         return 2;
     }
+    std::vector<std::vector<std::uint8_t>> tokens;
+    std::string error;
+    if (!read_tokens(token_texts, token_file, tokens, error)) {
+        std::fprintf(stderr, "jetrace-bot: %s\n", error.c_str());
+        return 2;
+    }
+    if (!tokens.empty()) {
+        // Each bot presents its own token (a token admits once) under its name.
+        if (count_opt->count() > 0 && static_cast<std::size_t>(count) != tokens.size()) {
+            std::fprintf(stderr, "jetrace-bot: --count %d but %zu connect tokens: one per bot\n", count, tokens.size());
+            return 2;
+        }
+        if (tokens.size() > 64) {
+            std::fprintf(stderr, "jetrace-bot: more than 64 connect tokens\n");
+            return 2;
+        }
+        count = static_cast<int>(tokens.size());
+        if (track_spec.empty()) {
+            std::fprintf(stderr,
+                         "jetrace-bot: connect tokens need --track (the track probe would spend a token)\n");
+            return 2;
+        }
+    }
 
     // The track comes from the server's Welcome for built-in tracks; an OBJ
     // track must be given so the bots can load the same file. Build every
     // candidate scene up front, pick by identity after the welcome.
     std::vector<std::unique_ptr<jetrace::Scene>> scenes;
     const jetrace::PhysicsSettings physics;
-    std::string error;
     if (!track_spec.empty()) {
         jetrace::Track t;
         if (!jetrace::load_track(track_spec, t, error)) {
@@ -69,7 +140,6 @@ int main(int argc, char** argv) {
         scenes.push_back(std::make_unique<jetrace::Scene>(jetrace::Scene::make(std::move(t), physics)));
     }
     struct Bot {
-        std::unique_ptr<jetrace::net::Transport> transport;
         std::unique_ptr<jetrace::client::RaceClient> client;
         std::string name;
         jetrace::DriverSkill skill;
@@ -143,14 +213,23 @@ int main(int argc, char** argv) {
         Bot b;
         b.name = prefix + std::to_string(i);
         b.skill = skills[static_cast<std::size_t>(i)];
-        b.transport = jetrace::net::connect_enet(host, port, 5000, error);
-        if (!b.transport) {
-            std::fprintf(stderr, "jetrace-bot: %s\n", error.c_str());
+        jetrace::client::ClientConfig cc;
+        if (!tokens.empty()) {
+            cc.connect_token = tokens[static_cast<std::size_t>(i)];
+            b.name = jetrace::auth::parse_connect_token(cc.connect_token)->name;
+        }
+        cc.name = b.name;
+        cc.reconnect_window_s = reconnect_grace_s;
+        b.client = std::make_unique<jetrace::client::RaceClient>(cc, *scene, [&host, port] {
+            std::string e;
+            auto t = jetrace::net::connect_enet(host, static_cast<std::uint16_t>(port), 5000, e);
+            if (!t) spdlog::error("cannot connect: {}", e);
+            return t;
+        });
+        if (b.client->state() == jetrace::client::ClientState::closed) {
+            std::fprintf(stderr, "jetrace-bot: cannot open a connection to %s\n", connect.c_str());
             return 1;
         }
-        jetrace::client::ClientConfig cc;
-        cc.name = b.name;
-        b.client = std::make_unique<jetrace::client::RaceClient>(cc, *scene, *b.transport);
         bots.push_back(std::move(b));
     }
     std::size_t done = 0;
@@ -186,7 +265,7 @@ int main(int argc, char** argv) {
             }
         }
         failures += finished ? 0 : 1;
-        const auto totals = b.transport->totals();
+        const auto totals = b.client->totals();
         nlohmann::json j;
         j["name"] = b.name;
         j["finished"] = finished;
@@ -195,6 +274,7 @@ int main(int argc, char** argv) {
         j["max_correction_m"] = b.client->stats().max_correction_m;
         j["snapshots"] = b.client->stats().snapshots;
         j["rtt_ms"] = b.client->rtt_ms();
+        j["reconnects"] = b.client->stats().reconnects;
         j["down_bytes_per_s"] = static_cast<double>(totals.bytes_received) / wall_s;
         j["up_bytes_per_s"] = static_cast<double>(totals.bytes_sent) / wall_s;
         j["closed"] = b.client->close_reason();

@@ -1,4 +1,5 @@
 // jetrace-server: a dedicated authoritative race server over ENet/UDP.
+#include "jetrace/auth/key_file.hpp"
 #include "jetrace/net/transport.hpp"
 #include "jetrace/server/race_server.hpp"
 #include "jetrace/server/tick_times.hpp"
@@ -31,6 +32,7 @@ int main(int argc, char** argv) {
     std::string log_level = "info";
     int tick_rate = 120;
     double time_scale = 1.0;
+    std::string key_file;
     app.add_option("--port", net_cfg.port, "UDP port (0: any free port, printed at start)");
     app.add_option("--bind", net_cfg.bind, "address to bind");
     app.add_option("--track", track_spec, "built-in track (stadium, ring) or a Wavefront .obj file");
@@ -44,6 +46,12 @@ int main(int argc, char** argv) {
     app.add_option("--countdown", cfg.countdown_s, "countdown before each race (s)")->check(CLI::Range(0.0, 600.0));
     app.add_option("--finish-window", cfg.finish_window_s, "time the others get after the winner finishes (s)")
         ->check(CLI::Range(1.0, 3600.0));
+    app.add_option("--reconnect-grace", cfg.reconnect_grace_s,
+                   "how long a dropped player's slot and car wait for its reconnect (s; 0: none)")
+        ->check(CLI::Range(0.0, 3600.0));
+    app.add_option("--key-file", key_file,
+                   "private race: admit only connect tokens signed with this key (jetrace-token keygen's FILE.pub)");
+    app.add_option("--race-id", cfg.race_id, "private race: connect tokens must name this race (default: none)");
     app.add_option("--results", cfg.results_path, "results JSON file, written atomically at each race's end");
     app.add_option("--record", cfg.record_path, "replay file of the race (jetrace-sim --replay reads it)");
     app.add_option("--log-level", log_level, "trace, debug, info, warn, error, off")
@@ -54,8 +62,20 @@ int main(int argc, char** argv) {
     spdlog::set_level(spdlog::level::from_str(log_level));
     spdlog::set_pattern("[%H:%M:%S.%e] [server] [%l] %v");
 
-    jetrace::Track track;
     std::string error;
+    if (!key_file.empty()) {
+        jetrace::auth::LoadedKey key;
+        if (!jetrace::auth::load_key_file(key_file, key, error)) {
+            std::fprintf(stderr, "jetrace-server: %s\n", error.c_str());
+            return 2;
+        }
+        if (key.has_secret) spdlog::warn("--key-file holds a secret key: the server needs only its .pub file");
+        cfg.connect_key = key.public_key;
+    } else if (!cfg.race_id.empty()) {
+        std::fprintf(stderr, "jetrace-server: --race-id needs --key-file\n");
+        return 2;
+    }
+    jetrace::Track track;
     if (!jetrace::load_track(track_spec, track, error)) {
         std::fprintf(stderr, "jetrace-server: %s\n", error.c_str());
         return 2;
@@ -78,6 +98,7 @@ int main(int argc, char** argv) {
         return 1;
     }
     std::printf("listening on %s:%u\n", net_cfg.bind.c_str(), transport->local_port());
+    if (cfg.connect_key) spdlog::info("private race: only players with a connect token signed with the key get in");
     std::fflush(stdout);
 
     jetrace::server::RaceServer server(cfg, scene, *transport);
@@ -107,7 +128,11 @@ int main(int argc, char** argv) {
             break;
         }
         const auto t0 = Clock::now();
-        const int ticks = server.update(now_us());
+        // Connect tokens expire by the wall clock, whatever the time scale.
+        const auto unix_s = std::chrono::duration_cast<std::chrono::seconds>(
+                                std::chrono::system_clock::now().time_since_epoch())
+                                .count();
+        const int ticks = server.update(now_us(), static_cast<std::int64_t>(unix_s));
         if (ticks > 0) {
             const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count() / ticks;
             tick_ms.add(ms, static_cast<std::uint64_t>(ticks));

@@ -27,7 +27,7 @@ namespace {
 
 // ------------------------------------------------------------ equality
 
-auto tie(const jp::Hello& m) { return std::tie(m.protocol_version, m.name, m.reconnect_token); }
+auto tie(const jp::Hello& m) { return std::tie(m.protocol_version, m.name, m.reconnect_token, m.connect_token); }
 auto tie(const jp::Welcome& m) {
     return std::tie(m.protocol_version, m.slot, m.max_players, m.tick_rate_hz, m.snapshot_rate_hz, m.track_name,
                     m.track_identity, m.physics_hash, m.server_tick, m.reconnect_token);
@@ -91,9 +91,10 @@ std::vector<std::uint8_t> token(std::uint8_t first) {
 /// One of every message, with non-default values and limits.
 std::vector<jp::Message> sample_messages() {
     std::vector<jp::Message> out;
-    out.push_back(jp::Hello{1, "Ayrton", {}});
-    out.push_back(jp::Hello{7, "\xc3\xa9t\xc3\xa9 \xe2\x9c\x93 1234567890123456789012", token(3)});  // 32 bytes
-    out.push_back(jp::Hello{0, "", {}});
+    out.push_back(jp::Hello{1, "Ayrton", {}, {}});
+    out.push_back(jp::Hello{7, "\xc3\xa9t\xc3\xa9 \xe2\x9c\x93 1234567890123456789012", token(3), {}});  // 32 bytes
+    out.push_back(jp::Hello{0, "", {}, {}});
+    out.push_back(jp::Hello{2, "Alain", token(4), std::vector<std::uint8_t>(jp::kMaxConnectTokenBytes, 0x5A)});
     out.push_back(jp::Welcome{1, 5, 8, 120, 60, "ring", 0x1234567890abcdefull, 0xfedcba0987654321ull, 99, token(9)});
     out.push_back(jp::Welcome{2, 63, 64, 10000, 1, std::string(256, 't'), 0, 0, 0xFFFFFFFFu, {}});
     out.push_back(jp::Refuse{"server full"});
@@ -186,7 +187,7 @@ TEST(ProtoMessages, RejectsEmptyOversizedAndWrongIdentifier) {
     std::vector<std::uint8_t> big = jp::encode(jp::Goodbye{"x"});
     big.resize(jp::kMaxMessageBytes + 1);
     EXPECT_FALSE(decodes(big, &why));
-    std::vector<std::uint8_t> bytes = jp::encode(jp::Hello{1, "a", {}});
+    std::vector<std::uint8_t> bytes = jp::encode(jp::Hello{1, "a", {}, {}});
     bytes[4] = 'X';
     EXPECT_FALSE(decodes(bytes, &why));
     EXPECT_NE(why.find("identifier"), std::string::npos) << why;
@@ -342,7 +343,7 @@ TEST(ProtoMessages, HelloAndRefuseAreThoseOfVersion1) {
         0x76, 0x65, 0x72, 0x73, 0x69, 0x6f, 0x6e, 0x20, 0x32, 0x20, 0x6e, 0x6f, 0x74, 0x20, 0x73, 0x75, 0x70, 0x70, 0x6f,
         0x72, 0x74, 0x65, 0x64, 0x20, 0x28, 0x73, 0x65, 0x72, 0x76, 0x65, 0x72, 0x20, 0x73, 0x70, 0x65, 0x61, 0x6b, 0x73,
         0x20, 0x31, 0x29, 0x00, 0x00};
-    const jp::Hello hello{1, "Ayrton", {}};
+    const jp::Hello hello{1, "Ayrton", {}, {}};
     const jp::Refuse refuse{"protocol version 2 not supported (server speaks 1)"};
     EXPECT_EQ(jp::encode(hello), hello_v1);
     EXPECT_EQ(jp::encode(refuse), refuse_v1);
@@ -479,7 +480,7 @@ TEST(ProtoMessages, RandomPayloadsNeverCrash) {
 TEST(ProtoMessages, PhysicsHashCoversEveryField) {
     // A new field in PhysicsSettings changes its size: add it to the hash
     // (jetrace::physics_fingerprint, which jp::physics_hash is) and below.
-    EXPECT_EQ(sizeof(jetrace::PhysicsSettings), 128u) << "PhysicsSettings changed: update the physics hash";
+    EXPECT_EQ(sizeof(jetrace::PhysicsSettings), 136u) << "PhysicsSettings changed: update the physics hash";
     const jetrace::PhysicsSettings base;
     const std::uint64_t h = jp::physics_hash(base);
     EXPECT_EQ(h, jp::physics_hash(jetrace::PhysicsSettings{}));
@@ -493,7 +494,8 @@ TEST(ProtoMessages, PhysicsHashCoversEveryField) {
         [](S& s) { s.ride_min_cos = 0.4; }, [](S& s) { s.no_progress_s = 5.0; },
         [](S& s) { s.resolver_passes = 10; }, [](S& s) { s.resolver_epsilon_m = 1e-3; },
         [](S& s) { s.contact_skin_m = 0.1; }, [](S& s) { s.integrator = jetrace::Integrator::explicit_euler; },
-        [](S& s) { s.quantize_state = false; }};
+        [](S& s) { s.quantize_state = false; }, [](S& s) { s.collision_mode = jetrace::CollisionMode::discrete; },
+        [](S& s) { s.sweep_contacts = 2; }};
     for (std::size_t i = 0; i < mutations.size(); ++i) {
         S s = base;
         mutations[i](s);

@@ -273,8 +273,10 @@ TEST(EnetTransport, SilentPeerIsDroppedWithinTimeout) {
     End client = make_client(server.t->local_port());
     ASSERT_TRUE(pump({&server, &client}, [&] { return server.count(Event::Type::connected) == 1; }));
     const auto start = Clock::now();  // the client stops answering from here on
-    ASSERT_TRUE(pump({&server}, [&] { return server.count(Event::Type::disconnected) == 1; }, 3000));
-    EXPECT_LT(Clock::now() - start, 900ms);
+    ASSERT_TRUE(pump({&server}, [&] { return server.count(Event::Type::disconnected) == 1; }, 6000));
+    // Dropped by the 600 ms timeout, not by ENet's default of 5 s or more
+    // (generous: the shared CI machine can stall this process for a while).
+    EXPECT_LT(Clock::now() - start, 3000ms);
 }
 
 TEST(EnetTransport, BindFailuresGiveNullAndAMessage) {

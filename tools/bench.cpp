@@ -1,8 +1,17 @@
 // jetrace-bench: benchmarks that print machine-readable JSON.
-//   seed   the seed article's benchmark: one car idling on `stadium`,
-//          grid on, then off (brute force).
+//   seed         the seed article's benchmark: one car idling on `stadium`,
+//                grid on, then off (brute force).
+//   integrators  integrator error against analytic and fine-step references.
+//   study        the speed-against-accuracy study: CSV files (tools/bench/study*.cpp).
+//   bullet       side by side with Bullet (tools/bench/bullet.cpp; only when
+//                built with Bullet).
+#include "bench/common.hpp"
+#include "bench/study.hpp"
 #include "jetrace/builtin_tracks.hpp"
 #include "jetrace/world.hpp"
+#ifdef JETRACE_HAVE_BULLET
+#include "bench/bullet.hpp"
+#endif
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -14,13 +23,9 @@
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
+using jetrace::bench::Clock;
+using jetrace::bench::fly;
+using jetrace::bench::median;
 
 // Nanoseconds per frame of one car idling for `frames` frames.
 double idle_ns_per_frame(const jetrace::Scene& scene, std::uint32_t frames, std::uint64_t& hash_out) {
@@ -80,24 +85,6 @@ int run_seed(std::uint32_t frames, int repeats, bool grid_off) {
     return hash_on == hash_off ? 0 : 1;
 }
 
-// One car in free flight (no track contact) for `seconds`, from a fixed
-// launch; returns the final position.
-jetrace::Vec3 fly(const jetrace::PhysicsSettings& ps, double seconds) {
-    jetrace::CarState car;
-    car.active = true;
-    car.position = jetrace::Vec3(0, 500, 0);
-    car.velocity = jetrace::Vec3(80, 30, 10);
-    const jetrace::Contacts none;
-    const jetrace::Input idle{};
-    const auto steps = static_cast<int>(seconds * ps.tick_rate_hz + 0.5);
-    for (int i = 0; i < steps; ++i) {
-        const jetrace::Vec3 v0 = car.velocity;
-        jetrace::apply_controls_and_forces(ps, none, idle, car);
-        jetrace::integrate(ps, v0, car);
-    }
-    return car.position;
-}
-
 // Integrators against references: a ballistic jump without drag (analytic)
 // and a flight with drag (reference: semi-implicit Euler at 7,680 Hz).
 int run_integrators() {
@@ -105,7 +92,8 @@ int run_integrators() {
     jetrace::PhysicsSettings ref_ps;
     ref_ps.tick_rate_hz = 7680;
     const jetrace::Vec3 drag_ref = fly(ref_ps, seconds);
-    const jetrace::Vec3 p0(0, 500, 0), v0(80, 30, 10);
+    const jetrace::Vec3& p0 = jetrace::bench::kFlightStart;
+    const jetrace::Vec3& v0 = jetrace::bench::kFlightVelocity;
     const jetrace::Vec3 ballistic_ref = p0 + v0 * seconds + jetrace::Vec3(0, -0.5 * 9.81 * seconds * seconds, 0);
     for (jetrace::Integrator in : {jetrace::Integrator::explicit_euler, jetrace::Integrator::semi_implicit_euler,
                                    jetrace::Integrator::velocity_verlet}) {
@@ -142,8 +130,23 @@ int main(int argc, char** argv) {
     bool no_grid_off = false;
     seed->add_flag("--no-grid-off", no_grid_off, "skip the brute-force runs (for profiling the grid path)");
     auto* integrators = app.add_subcommand("integrators", "integrator error against analytic and fine-step references");
+    jetrace::bench::StudyOptions study_opts;
+    auto* study = app.add_subcommand("study", "speed against accuracy: writes CSV files for tools/charts.sh");
+    study->add_option("--out", study_opts.out_dir, "directory for the CSV files (created if missing)");
+    study->add_flag("--quick", study_opts.quick, "fewer variants and shorter runs (under a minute)");
+    study->add_option("--repeats", study_opts.repeats, "runs per timed variant; the median is reported")
+        ->check(CLI::Range(1, 50));
+#ifdef JETRACE_HAVE_BULLET
+    jetrace::bench::BulletOptions bullet_opts;
+    auto* bullet = app.add_subcommand("bullet", "the same scenarios in Bullet and in jetrace, in one run: JSON lines");
+    jetrace::bench::add_bullet_options(*bullet, bullet_opts);
+#endif
     CLI11_PARSE(app, argc, argv);
     if (seed->parsed()) return run_seed(frames, repeats, !no_grid_off);
     if (integrators->parsed()) return run_integrators();
+    if (study->parsed()) return jetrace::bench::run_study(study_opts);
+#ifdef JETRACE_HAVE_BULLET
+    if (bullet->parsed()) return jetrace::bench::run_bullet(bullet_opts);
+#endif
     return 2;
 }

@@ -4,8 +4,13 @@
 #   2. builds everything with g++ -O2 and runs the whole CTest suite,
 #   3. rebuilds the core and the determinism test with g++ -O0, clang++ -O2
 #      and clang++ -O0 and runs it in each: the pinned golden state hash must
-#      come out the same from every compiler and optimisation level.
-# Options: JETRACE_TEST_LABELS="quick" to run only some labels (default: all).
+#      come out the same from every compiler and optimisation level,
+#   4. builds everything with AddressSanitizer + UndefinedBehaviorSanitizer
+#      (g++ -O1, asserts on) into build-asan/ and runs the whole CTest suite
+#      there (the fuzz corpus replays included),
+#   5. runs every libFuzzer target for a bounded time (tools/fuzz.sh).
+# Options: JETRACE_TEST_LABELS="quick" to run only some labels (default: all);
+# JETRACE_FUZZ_SECONDS per fuzz target (default 15).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/tools/setup.sh"
@@ -25,3 +30,21 @@ for cfg in "g++ Debug -O0" "clang++ Release -O2" "clang++ Debug -O0"; do
   cmake --build "$dir" -j "$(nproc)" --target test_determinism
   ctest --test-dir "$dir" --output-on-failure
 done
+
+echo "== sanitizers: ASan + UBSan build of the whole suite (build-asan/)"
+asan="$root/build-asan"
+if [ ! -f "$asan/CMakeCache.txt" ]; then
+  launcher=()
+  if command -v ccache >/dev/null 2>&1; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
+  cmake -S "$root" -B "$asan" -G Ninja -DJETRACE_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug \
+    -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" "${launcher[@]}" >/dev/null
+fi
+cmake --build "$asan" -j "$(nproc)"
+# The loopback races run on virtual time over real sockets: under ASan they
+# are slow enough that two at once can fall behind, so the net tests run one
+# at a time there.
+ctest --test-dir "$asan" --output-on-failure -j "$(nproc)" -LE net "${labels[@]}"
+ctest --test-dir "$asan" --output-on-failure -L net "${labels[@]}"
+
+echo "== fuzzing: every target for ${JETRACE_FUZZ_SECONDS:-15} s (tools/fuzz.sh)"
+"$root/tools/fuzz.sh" "${JETRACE_FUZZ_SECONDS:-15}"

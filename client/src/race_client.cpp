@@ -25,14 +25,37 @@ Input known_input(const proto::WorldSnapshot& snap, std::size_t slot, std::uint3
 }  // namespace
 
 RaceClient::RaceClient(const ClientConfig& config, const Scene& scene, net::Transport& transport)
-    : config_(config), scene_(scene), transport_(transport) {
+    : config_(config), scene_(scene), transport_(&transport) {
     tick_us_ = 1e6 / scene.physics.tick_rate_hz;
     my_input_ticks_.fill(proto::kNoTick);
     my_state_ticks_.fill(proto::kNoTick);
     for (auto& r : received_) r.first = proto::kNoTick;
 }
 
-double RaceClient::rtt_ms() const { return transport_.peer_stats(0).rtt_ms; }
+RaceClient::RaceClient(const ClientConfig& config, const Scene& scene, Connector connect)
+    : config_(config), scene_(scene), connector_(std::move(connect)) {
+    tick_us_ = 1e6 / scene.physics.tick_rate_hz;
+    my_input_ticks_.fill(proto::kNoTick);
+    my_state_ticks_.fill(proto::kNoTick);
+    for (auto& r : received_) r.first = proto::kNoTick;
+    owned_ = connector_ ? connector_() : nullptr;
+    transport_ = owned_.get();
+    if (!transport_) close("cannot open a connection");
+}
+
+double RaceClient::rtt_ms() const { return transport_ ? transport_->peer_stats(0).rtt_ms : 0.0; }
+
+net::Totals RaceClient::totals() const {
+    net::Totals t = past_totals_;
+    if (transport_) {
+        const net::Totals now = transport_->totals();
+        t.bytes_sent += now.bytes_sent;
+        t.bytes_received += now.bytes_received;
+        t.packets_sent += now.packets_sent;
+        t.packets_received += now.packets_received;
+    }
+    return t;
+}
 
 void RaceClient::close(const std::string& reason) {
     if (state_ == ClientState::closed) return;
@@ -43,22 +66,31 @@ void RaceClient::close(const std::string& reason) {
 
 void RaceClient::leave(const std::string& reason) {
     if (state_ == ClientState::closed) return;
-    transport_.send(0, net::Channel::reliable, proto::encode(proto::Goodbye{reason}));
-    transport_.disconnect(0);
-    transport_.flush();
+    if (!transport_) return close(reason);
+    transport_->send(0, net::Channel::reliable, proto::encode(proto::Goodbye{reason}));
+    transport_->disconnect(0);
+    transport_->flush();
     close(reason);
 }
 
 void RaceClient::on_event(const net::Event& e) {
     switch (e.type) {
-        case net::Event::Type::connected: {
-            proto::Hello h;
-            h.name = config_.name;
-            transport_.send(0, net::Channel::reliable, proto::encode(h));
-            state_ = ClientState::waiting_welcome;
+        case net::Event::Type::connected: send_hello(); break;
+        case net::Event::Type::disconnected:
+            if (state_ == ClientState::reconnecting && !close_reason_.empty()) {
+                close(close_reason_);  // the server said goodbye to the new connection
+            } else if (state_ == ClientState::reconnecting) {
+                need_connection_ = true;  // that attempt failed: try again
+            } else if (may_reconnect()) {
+                spdlog::info("{}: connection lost; reconnecting to slot {}", config_.name, slot_);
+                state_ = ClientState::reconnecting;
+                dropped_at_us_ = now_us_;
+                next_attempt_us_ = now_us_;
+                need_connection_ = true;
+            } else {
+                close(close_reason_.empty() ? "disconnected" : close_reason_);
+            }
             break;
-        }
-        case net::Event::Type::disconnected: close(close_reason_.empty() ? "disconnected" : close_reason_); break;
         case net::Event::Type::received: {
             proto::Message m;
             std::string error;
@@ -74,7 +106,7 @@ void RaceClient::on_event(const net::Event& e) {
 
 void RaceClient::on_message(const proto::Message& m) {
     if (const auto* w = std::get_if<proto::Welcome>(&m)) {
-        if (state_ != ClientState::waiting_welcome) {
+        if (state_ != ClientState::waiting_welcome && state_ != ClientState::reconnecting) {
             spdlog::warn("{}: ignoring an unexpected second welcome", config_.name);
         } else if (w->track_identity != scene_.track.identity()) {
             leave("track mismatch: the server races on '" + w->track_name + "', which differs from ours");
@@ -82,8 +114,14 @@ void RaceClient::on_message(const proto::Message& m) {
                    w->tick_rate_hz != scene_.physics.tick_rate_hz) {
             leave("physics settings differ from the server's");
         } else {
+            if (state_ == ClientState::reconnecting) {
+                ++stats_.reconnects;
+                reset_world();  // the server's world went on without us
+                if (w->slot != slot_) spdlog::warn("{}: reconnected to slot {}, not {}", config_.name, w->slot, slot_);
+            }
             slot_ = w->slot;
             snapshot_rate_hz_ = std::max<int>(1, w->snapshot_rate_hz);
+            reconnect_token_ = w->reconnect_token;
             state_ = ClientState::in_lobby;
             spdlog::info("{}: welcome, slot {}", config_.name, slot_);
         }
@@ -110,14 +148,7 @@ void RaceClient::on_snapshot(const proto::Snapshot& s) {
     if (s.race_number > race_number_) {
         // A new race: a fresh world whose ticks start again from 0.
         race_number_ = s.race_number;
-        for (auto& r : received_) r.first = proto::kNoTick;
-        newest_snapshot_tick_ = proto::kNoTick;
-        last_applied_input_tick_ = proto::kNoTick;
-        my_input_ticks_.fill(proto::kNoTick);
-        my_state_ticks_.fill(proto::kNoTick);
-        clock_adjust_ = 0;
-        visual_offset_ = Vec3::Zero();
-        have_world_ = false;
+        reset_world();
     }
     const proto::WorldSnapshot* base = nullptr;
     if (s.baseline_tick != proto::kNoTick) {
@@ -158,6 +189,49 @@ void RaceClient::on_snapshot(const proto::Snapshot& s) {
     }
     reconcile(snap);
     adjust_clock(s);
+}
+
+void RaceClient::reset_world() {
+    for (auto& r : received_) r.first = proto::kNoTick;
+    newest_snapshot_tick_ = proto::kNoTick;
+    last_applied_input_tick_ = proto::kNoTick;
+    my_input_ticks_.fill(proto::kNoTick);
+    my_state_ticks_.fill(proto::kNoTick);
+    clock_adjust_ = 0;
+    visual_offset_ = Vec3::Zero();
+    have_world_ = false;
+}
+
+void RaceClient::send_hello() {
+    proto::Hello h;
+    h.name = config_.name;
+    h.connect_token = config_.connect_token;
+    if (state_ == ClientState::reconnecting) h.reconnect_token = reconnect_token_;
+    else state_ = ClientState::waiting_welcome;
+    transport_->send(0, net::Channel::reliable, proto::encode(h));
+}
+
+bool RaceClient::may_reconnect() const {
+    // Not after the server's Goodbye (close_reason_ holds it): it meant it.
+    return connector_ && (state_ == ClientState::in_lobby || state_ == ClientState::racing) &&
+           reconnect_token_.size() == proto::kTokenBytes && config_.reconnect_window_s > 0 && close_reason_.empty();
+}
+
+void RaceClient::reconnect_step() {
+    const auto window_us = static_cast<std::uint64_t>(config_.reconnect_window_s * 1e6);
+    if (now_us_ - dropped_at_us_ > window_us) {
+        close("disconnected: could not reconnect within " + std::to_string(config_.reconnect_window_s) + " s");
+        return;
+    }
+    if (!need_connection_ || now_us_ < next_attempt_us_) return;
+    // The old connection is dead: keep its figures, open a new one.
+    past_totals_ = totals();
+    owned_.reset();
+    transport_ = nullptr;
+    owned_ = connector_();
+    transport_ = owned_.get();
+    need_connection_ = transport_ == nullptr;
+    next_attempt_us_ = now_us_ + static_cast<std::uint64_t>(config_.reconnect_retry_s * 1e6);
 }
 
 void RaceClient::reconcile(const proto::WorldSnapshot& snap) {
@@ -207,7 +281,7 @@ void RaceClient::reconcile(const proto::WorldSnapshot& snap) {
 void RaceClient::adjust_clock(const proto::Snapshot& s) {
     if (s.phase != proto::RacePhase::countdown && s.phase != proto::RacePhase::racing) return;
     if (s.input_margin_ticks == -32768) return;  // no input received yet
-    const double sigma_ticks = transport_.peer_stats(0).rtt_variance_ms * 1000.0 / tick_us_;
+    const double sigma_ticks = transport_->peer_stats(0).rtt_variance_ms * 1000.0 / tick_us_;
     const double target = config_.target_margin_ticks + config_.jitter_margin_sigmas * sigma_ticks;
     const double error = s.input_margin_ticks - target;
     if (error < -6.0) {
@@ -256,16 +330,21 @@ void RaceClient::send_inputs() {
     }
     if (b.inputs.empty()) return;
     b.first_tick = first;
-    transport_.send(0, net::Channel::unreliable, proto::encode(b));
+    transport_->send(0, net::Channel::unreliable, proto::encode(b));
 }
 
 void RaceClient::update(std::uint64_t now_us, const InputSource& input) {
     now_us_ = now_us;
+    if (state_ == ClientState::reconnecting) reconnect_step();
+    if (!transport_) return;
     events_.clear();
-    transport_.service(now_us / 1000, events_);
-    for (const net::Event& e : events_) on_event(e);
-    if (state_ == ClientState::closed || !have_world_ || slot_ < 0) {
-        transport_.flush();
+    transport_->service(now_us / 1000, events_);
+    for (const net::Event& e : events_) {
+        on_event(e);
+        if (need_connection_) break;  // the rest came from the dead connection
+    }
+    if (state_ == ClientState::closed || state_ == ClientState::reconnecting || !have_world_ || slot_ < 0) {
+        transport_->flush();
         return;
     }
     if (now_us > next_tick_us_ + kMaxCatchUp_us) next_tick_us_ = now_us - kMaxCatchUp_us;
@@ -279,7 +358,7 @@ void RaceClient::update(std::uint64_t now_us, const InputSource& input) {
     // Inputs go out at most every `input_interval` ticks, with every input
     // the server has not yet applied (redundancy against loss).
     if (ran > 0 && (predicted_.tick % config_.input_interval_ticks == 0 || ran > 1)) send_inputs();
-    transport_.flush();
+    transport_->flush();
 }
 
 Vec3 RaceClient::visual_own_position() const {

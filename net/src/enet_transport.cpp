@@ -293,7 +293,10 @@ private:
         const auto it = peers_.find(0);
         if (it == peers_.end()) return;
         ENetPeer* peer = it->second;
-        enet_peer_disconnect(peer, 0);
+        // _later: reliable data still queued or unacknowledged (a Goodbye)
+        // goes first. enet_peer_disconnect would drop it here, and a server
+        // that receives the data and the disconnect in one batch drops it too.
+        enet_peer_disconnect_later(peer, 0);
         const auto deadline = std::chrono::steady_clock::now() + kGracefulClose;
         ENetEvent ev{};
         while (peer->state != ENET_PEER_STATE_DISCONNECTED) {

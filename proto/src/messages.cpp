@@ -186,7 +186,10 @@ struct Encoder {
         assert_text(m.name, kMaxNameBytes);
         const auto name = b.CreateString(m.name);
         const auto tok = token(b, m.reconnect_token);
-        return finish_envelope(b, w::Handshake_Hello, w::CreateHello(b, m.protocol_version, name, tok).Union());
+        assert(m.connect_token.size() <= kMaxConnectTokenBytes && "encode: connect token too long");
+        const auto connect = m.connect_token.empty() ? 0 : b.CreateVector(m.connect_token);
+        return finish_envelope(b, w::Handshake_Hello,
+                               w::CreateHello(b, m.protocol_version, name, tok, connect).Union());
     }
     std::vector<std::uint8_t> operator()(const Welcome& m) const {
         assert(m.max_players >= 1 && m.max_players <= kMaxSlots && m.slot < m.max_players);
@@ -246,6 +249,10 @@ bool decode_body(const w::Hello& t, Message& out, Check& c) {
     m.protocol_version = t.protocol_version();
     if (!c.text(t.name(), kMaxNameBytes, "Hello.name", m.name)) return false;
     if (!c.token(t.reconnect_token(), "Hello.reconnect_token", m.reconnect_token)) return false;
+    if (const auto* ct = t.connect_token()) {
+        if (ct->size() > kMaxConnectTokenBytes) return c.fail("Hello.connect_token", "too long");
+        m.connect_token.assign(ct->begin(), ct->end());
+    }
     out = std::move(m);
     return true;
 }
@@ -448,6 +455,8 @@ bool decode(std::span<const std::uint8_t> bytes, Message& out, std::string& erro
     Check c(error);
     return kind->decode(data, bytes.size(), out, c);
 }
+
+bool valid_text(std::string_view text) { return clean_utf8(text); }
 
 std::uint64_t physics_hash(const PhysicsSettings& s) {
     // FNV-1a over every field in declaration order, raw bits of doubles: the

@@ -74,7 +74,8 @@ void RaceServer::step_race() {
     for (std::size_t s = 0; s < world_.cars.size(); ++s) {
         applied_[s] = Input{};
         const net::PeerId peer = slot_peer_[s];
-        if (peer == kNoPeer || !world_.cars[s].active) continue;
+        // A held car (its player dropped) drives on with neutral inputs.
+        if (peer == kNoPeer || peer == kHeldPeer || !world_.cars[s].active) continue;
         Client& c = clients_.at(peer);
         const std::uint32_t t = world_.tick;
         if (c.input_ticks[t % kInputRing] == t) {
@@ -123,7 +124,7 @@ void RaceServer::send_snapshots() {
     now.upcoming.assign(world_.cars.size(), {});
     for (std::size_t s = 0; s < world_.cars.size(); ++s) {
         const net::PeerId peer = slot_peer_[s];
-        if (peer == kNoPeer || !world_.cars[s].active) continue;
+        if (peer == kNoPeer || peer == kHeldPeer || !world_.cars[s].active) continue;
         const Client& c = clients_.at(peer);
         for (std::uint32_t t = world_.tick; now.upcoming[s].size() < proto::kMaxUpcomingInputs; ++t) {
             if (c.input_ticks[t % kInputRing] != t) break;
@@ -168,9 +169,8 @@ std::vector<proto::StandingEntry> RaceServer::current_standings() const {
     for (const Standing& s : standings(scene_.track, world_.cars, world_.start_tick, scene_.physics.tick_rate_hz)) {
         proto::StandingEntry e;
         e.slot = static_cast<std::uint8_t>(s.slot);
-        const net::PeerId peer = slot_peer_[static_cast<std::size_t>(s.slot)];
-        const auto it = clients_.find(peer);
-        e.name = it != clients_.end() ? it->second.name : "player" + std::to_string(s.slot);
+        const Client* owner = owner_of(s.slot);
+        e.name = owner ? owner->name : "player" + std::to_string(s.slot);
         e.finished = s.finished;
         e.lap = static_cast<std::uint16_t>(s.lap);
         e.finish_time_s = s.finish_time_s;

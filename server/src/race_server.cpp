@@ -23,6 +23,10 @@ std::string validate(const ServerConfig& c, int tick_rate_hz) {
     if (c.max_input_lead_ticks < 1 || c.max_input_lead_ticks >= 256)
         err << "max input lead must be in [1, 255] ticks (the input ring holds 256); ";
     if (!(c.hello_timeout_s > 0 && c.hello_timeout_s <= 600)) err << "hello timeout must be in (0, 600] s; ";
+    if (!(c.reconnect_grace_s >= 0 && c.reconnect_grace_s <= 3600)) err << "reconnect grace must be in [0, 3600] s; ";
+    if (c.race_id.size() > auth::kMaxRaceIdBytes || !proto::valid_text(c.race_id))
+        err << "race id must be at most 64 bytes of UTF-8 text; ";
+    if (c.max_connect_nonces < 1 || c.max_connect_nonces > 10'000'000) err << "max connect nonces must be in [1, 1e7]; ";
     return err.str();
 }
 
@@ -34,6 +38,10 @@ RaceServer::RaceServer(const ServerConfig& config, const Scene& scene, net::Tran
       slot_peer_(static_cast<std::size_t>(config.max_players), kNoPeer) {
     for (auto& h : history_) h.first = proto::kNoTick;
     world_ = make_world(config_.max_players, config_.laps);
+    if (config_.connect_key) {
+        verifier_ = std::make_unique<auth::TokenVerifier>(
+            auth::VerifierConfig{*config_.connect_key, config_.race_id, config_.max_connect_nonces});
+    }
 }
 
 int RaceServer::players() const {
@@ -65,16 +73,15 @@ void RaceServer::drop(net::PeerId peer, const std::string& reason) {
     }
     send(peer, net::Channel::reliable, proto::Goodbye{text});
     transport_.disconnect(peer);
-    const int slot = it->second.slot;
+    Client gone = std::move(it->second);
     clients_.erase(it);
-    if (slot >= 0) {
-        slot_peer_[static_cast<std::size_t>(slot)] = kNoPeer;
-        if (world_.cars[static_cast<std::size_t>(slot)].active) {
-            remove_car(world_, slot);
-            pending_removals_.push_back(static_cast<std::uint8_t>(slot));
-        }
-        broadcast_status();
-    }
+    release(std::move(gone), false, "reconnect token no longer valid: the server dropped the player");
+}
+
+void RaceServer::refuse(Client& c, const std::string& name, const std::string& reason) {
+    spdlog::warn("refusing client {} ({}): {}", c.peer, name, reason);
+    send(c.peer, net::Channel::reliable, proto::Refuse{reason});
+    transport_.disconnect(c.peer);
 }
 
 void RaceServer::on_event(const net::Event& e) {
@@ -92,16 +99,12 @@ void RaceServer::on_event(const net::Event& e) {
             auto it = clients_.find(e.peer);
             if (it == clients_.end()) break;
             spdlog::info("client {} ({}) disconnected", e.peer, it->second.name);
-            const int slot = it->second.slot;
+            Client gone = std::move(it->second);
             clients_.erase(it);
-            if (slot >= 0) {
-                slot_peer_[static_cast<std::size_t>(slot)] = kNoPeer;
-                if (world_.cars[static_cast<std::size_t>(slot)].active) {
-                    remove_car(world_, slot);  // the race goes on without it
-                    pending_removals_.push_back(static_cast<std::uint8_t>(slot));
-                }
-                broadcast_status();
-            }
+            // Without a Goodbye (which forgets the client at once) the
+            // connection dropped: the player may come back.
+            release(std::move(gone), true,
+                    "reconnect token no longer valid: this server keeps no slot for a dropped player");
             break;
         }
         case net::Event::Type::received: {
@@ -129,8 +132,14 @@ void RaceServer::on_message(Client& c, const proto::Message& m) {
         }
         on_inputs(c, *inputs);
     } else if (std::holds_alternative<proto::Goodbye>(m)) {
+        // Forgotten at once: the slot is free for others now, whenever ENet
+        // reports the disconnect, and the player cannot reconnect.
         spdlog::info("client {} ({}) said goodbye", c.peer, c.name);
         transport_.disconnect(c.peer);
+        const auto it = clients_.find(c.peer);
+        Client gone = std::move(it->second);
+        clients_.erase(it);  // `c` is gone too
+        release(std::move(gone), false, "reconnect token no longer valid: the player said goodbye");
     } else {
         drop(c.peer, "protocol violation: clients may not send this message");
     }
@@ -142,31 +151,51 @@ void RaceServer::on_hello(Client& c, const proto::Hello& h) {
         return;
     }
     if (h.protocol_version != proto::kProtocolVersion) {
-        const std::string reason = "protocol version " + std::to_string(h.protocol_version) +
-                                   " not supported (server speaks " + std::to_string(proto::kProtocolVersion) + ")";
-        spdlog::warn("refusing client {}: {}", c.peer, reason);
-        send(c.peer, net::Channel::reliable, proto::Refuse{reason});
-        transport_.disconnect(c.peer);
+        refuse(c, h.name, "protocol version " + std::to_string(h.protocol_version) + " not supported (server speaks " +
+                      std::to_string(proto::kProtocolVersion) + ")");
         return;
+    }
+    if (!h.reconnect_token.empty()) {
+        on_reconnect(c, h);
+        return;
+    }
+    std::optional<auth::ConnectToken> ticket;
+    if (verifier_) {
+        if (unix_time_s_ < 0) {
+            spdlog::error("private race: the caller never set the wall clock, so no connect token can be checked");
+            refuse(c, h.name, "server clock not set: cannot check connect tokens");
+            return;
+        }
+        auth::Verdict v = verifier_->check(h.connect_token, h.name, unix_time_s_);
+        if (!v.ok()) {
+            refuse(c, h.name, v.refusal);
+            return;
+        }
+        ticket = std::move(v.token);
     }
     const int slot = free_slot();
     if (slot < 0) {
-        const std::string reason = "server full (" + std::to_string(config_.max_players) + " players)";
-        spdlog::warn("refusing client {} ({}): {}", c.peer, h.name, reason);
-        send(c.peer, net::Channel::reliable, proto::Refuse{reason});
-        transport_.disconnect(c.peer);
+        refuse(c, h.name, "server full (" + std::to_string(config_.max_players) + " players)");
         return;
     }
+    if (ticket) verifier_->admit(*ticket);  // spent only once it got the player in
     c.greeted = true;
+    c.hello_name = h.name;
     c.name = h.name.empty() ? "player" + std::to_string(slot) : h.name;
     c.slot = slot;
     c.spectating = phase_ != proto::RacePhase::lobby;
     slot_peer_[static_cast<std::size_t>(slot)] = c.peer;
     max_players_seen_ = std::max(max_players_seen_, players());
     spdlog::info("client {} is '{}' in slot {}{}", c.peer, c.name, slot, c.spectating ? " (spectating until the next race)" : "");
+    send_welcome(c);
+    broadcast_status();
+}
 
+void RaceServer::send_welcome(Client& c) {
+    // A fresh secret for every Welcome: the one a reconnect used is spent.
+    auth::random_bytes(c.reconnect_token);
     proto::Welcome w;
-    w.slot = static_cast<std::uint8_t>(slot);
+    w.slot = static_cast<std::uint8_t>(c.slot);
     w.max_players = static_cast<std::uint8_t>(config_.max_players);
     w.tick_rate_hz = static_cast<std::uint16_t>(scene_.physics.tick_rate_hz);
     w.snapshot_rate_hz = static_cast<std::uint16_t>(config_.snapshot_rate_hz);
@@ -174,8 +203,8 @@ void RaceServer::on_hello(Client& c, const proto::Hello& h) {
     w.track_identity = scene_.track.identity();
     w.physics_hash = proto::physics_hash(scene_.physics);
     w.server_tick = world_.tick;
+    w.reconnect_token.assign(c.reconnect_token.begin(), c.reconnect_token.end());
     send(c.peer, net::Channel::reliable, w);
-    broadcast_status();
 }
 
 void RaceServer::on_inputs(Client& c, const proto::InputBatch& b) {
@@ -241,9 +270,15 @@ void RaceServer::broadcast_status() {
         if (!c.greeted) continue;
         s.players.push_back({static_cast<std::uint8_t>(c.slot), c.name, c.spectating});
     }
+    for (const auto& [slot, h] : held_) s.players.push_back({static_cast<std::uint8_t>(slot), h.client.name, h.client.spectating});
     for (const auto& [peer, c] : clients_) {
         if (c.greeted) send(peer, net::Channel::reliable, s);
     }
+}
+
+int RaceServer::update(std::uint64_t now_us, std::int64_t unix_time_s) {
+    unix_time_s_ = unix_time_s;
+    return update(now_us);
 }
 
 int RaceServer::update(std::uint64_t now_us) {
@@ -263,6 +298,7 @@ int RaceServer::update(std::uint64_t now_us) {
         }
     }
     for (net::PeerId p : silent) drop(p, "no hello within " + std::to_string(config_.hello_timeout_s) + " s");
+    expire_held();
 
     int stepped = 0;
     // Never try to catch up more than a quarter second: skip instead.

@@ -42,12 +42,23 @@ void place_car(CarState& car, const Pose& pose) {
 namespace {
 
 // The support frame: the contact normal closest to the car's up, and the
-// car's forward and right projected into that surface.
+// car's forward and right projected into that surface. The normalised
+// directions are only computed when thrust or friction needs them (a car at
+// rest with the throttle off does not).
 struct SupportFrame {
     bool grounded = false;
     Vec3 normal{0, 1, 0};
-    Vec3 forward{0, 0, 1};
-    Vec3 right{-1, 0, 0};
+    Vec3 tangent_forward{0, 0, 0};  // car forward projected into the surface (not unit)
+    Vec3 tangent_up{0, 0, 0};       // car up projected into the surface (not unit)
+
+    // Unit forward along the surface. Facing straight into or out of the
+    // surface: the direction the car's up leans, so thrust still has a
+    // direction along the surface.
+    Vec3 forward() const {
+        if (tangent_forward.squaredNorm() > kMinLen * kMinLen) return normalized_or(tangent_forward, {}, kMinLen);
+        return normalized_or(tangent_up, Vec3::Zero(), kMinLen);
+    }
+    static constexpr double kMinLen = 1e-6;
 };
 
 SupportFrame support_frame(const Contacts& contacts, const Vec3& fwd, const Vec3& up, double min_cos) {
@@ -55,14 +66,11 @@ SupportFrame support_frame(const Contacts& contacts, const Vec3& fwd, const Vec3
     const int i = contacts.support(up, min_cos);
     if (i < 0) return f;
     f.normal = contacts.normal[i];
-    const Vec3 tf = fwd - f.normal * fwd.dot(f.normal);
-    // Facing straight into or out of the surface: fall back to the direction
-    // the car's up leans, so thrust still has a direction along the surface.
-    const Vec3 tu = up - f.normal * up.dot(f.normal);
-    f.forward = normalized_or(tf, normalized_or(tu, Vec3::Zero(), 1e-6), 1e-6);
-    if (f.forward.squaredNorm() == 0.0) return f;  // no usable frame: treat as airborne
-    f.right = f.forward.cross(f.normal);
-    f.grounded = true;
+    f.tangent_forward = fwd - f.normal * fwd.dot(f.normal);
+    f.tangent_up = up - f.normal * up.dot(f.normal);
+    constexpr double min2 = SupportFrame::kMinLen * SupportFrame::kMinLen;
+    // No usable direction along the surface: treat as airborne.
+    f.grounded = f.tangent_forward.squaredNorm() > min2 || f.tangent_up.squaredNorm() > min2;
     return f;
 }
 
@@ -75,52 +83,64 @@ void steer(const PhysicsSettings& s, const Input& input, Quat& q) {
 }
 
 // Sideways friction (seed: static threshold above the kinetic decrement).
-void sideways_friction(const PhysicsSettings& s, const SupportFrame& f, CarState& car) {
-    const double lateral = car.velocity.dot(f.right);
+void sideways_friction(const PhysicsSettings& s, const Vec3& right, CarState& car) {
+    const double lateral = car.velocity.dot(right);
     const double grip = s.grip_mps2 * s.dt_s();
     if (std::abs(lateral) <= grip) {
-        car.velocity -= f.right * lateral;  // grip
+        car.velocity -= right * lateral;  // grip
     } else {
         const double slide = s.slide_mps2 * s.dt_s();
-        car.velocity -= f.right * (lateral > 0 ? slide : -slide);  // drift
+        car.velocity -= right * (lateral > 0 ? slide : -slide);  // drift
     }
 }
 
 void brake(const PhysicsSettings& s, const SupportFrame& f, CarState& car) {
     // Slow the along-surface velocity by brake*dt, never reversing it.
     const Vec3 along = car.velocity - f.normal * car.velocity.dot(f.normal);
-    const double speed = along.norm();
-    if (speed <= 0.0) return;
+    const double speed2 = along.squaredNorm();
+    if (speed2 <= 0.0) return;
+    const double speed = std::sqrt(speed2);
     const double dv = s.brake_mps2 * s.dt_s();
     car.velocity -= speed <= dv ? along : along * (dv / speed);
 }
+
+bool is_zero(const Vec3& v) { return v.x() == 0.0 && v.y() == 0.0 && v.z() == 0.0; }
 
 }  // namespace
 
 void apply_controls_and_forces(const PhysicsSettings& s, const Contacts& contacts, const Input& input, CarState& car) {
     const double dt = s.dt_s();
     Quat q = car.unit_orientation();
-    steer(s, input, q);
-    car.orientation = q;
-    const Vec3 up = axis_y(q);
-    const SupportFrame f = support_frame(contacts, axis_z(q), up, s.ride_min_cos);
+    if (input.steer != 0) {
+        steer(s, input, q);
+        car.orientation = q;
+    }
+    const SupportFrame f = support_frame(contacts, axis_z(q), axis_y(q), s.ride_min_cos);
 
     Vec3 accel(0.0, -s.gravity_mps2, 0.0);
+    Vec3 forward = Vec3::Zero();
+    bool have_forward = false;
     if (f.grounded) {
-        accel += f.forward * (s.thrust_mps2 * input.throttle / Input::kMaxThrottle);
+        if (input.throttle > 0) {
+            forward = f.forward();
+            have_forward = true;
+            accel += forward * (s.thrust_mps2 * input.throttle / Input::kMaxThrottle);
+        }
         // Normal force: the surface cancels the part of the acceleration that
         // pushes into it (so a car at rest stays exactly at rest).
         const double into = accel.dot(f.normal);
         if (into < 0.0) accel -= f.normal * into;
     }
-    // Quadratic drag, always.
-    const double speed = car.velocity.norm();
+    // Quadratic drag, always (on the speed before this step's forces).
+    const double speed2 = car.velocity.squaredNorm();
     car.velocity += accel * dt;
-    car.velocity -= car.velocity * std::min(1.0, s.drag_per_m * speed * dt);
+    if (speed2 > 0.0) car.velocity -= car.velocity * std::min(1.0, s.drag_per_m * std::sqrt(speed2) * dt);
 
-    if (f.grounded) {
+    // Brake and friction act on motion: a car exactly at rest has none.
+    if (f.grounded && !is_zero(car.velocity)) {
         if (input.brake) brake(s, f, car);
-        sideways_friction(s, f, car);
+        if (!have_forward) forward = f.forward();
+        sideways_friction(s, forward.cross(f.normal), car);
     }
 }
 
@@ -138,6 +158,7 @@ void align_to_contacts(const PhysicsSettings& s, const Contacts& contacts, CarSt
     const Vec3 up = axis_y(q);
     const int i = contacts.support(up, s.ride_min_cos);
     if (i < 0) return;  // in the air: keep the orientation (the seed's tilted jumps)
+    if (same(up, contacts.normal[i])) return;  // already aligned: no turn (a car on a flat floor)
     const double t = std::min(1.0, s.align_rate_per_s * s.dt_s());
     const Quat arc = shortest_arc(up, contacts.normal[i]);
     car.orientation = nlerp_from_identity(arc, t) * q;
@@ -151,7 +172,9 @@ void quantize_motion(CarState& car) {
 }
 
 void quantize_orientation(CarState& car) {
-    Quat q = car.unit_orientation();  // near unit after a step: cheap path
+    // Unit to rounding after a turn, or already quantised (within 1e-4 of
+    // unit; the next step normalises it): quantise it as it is.
+    Quat q = car.orientation;
     if (q.w() < 0.0) q.coeffs() = -q.coeffs();  // one representative: w >= 0
     car.orientation = Quat(quantize(q.w(), kQuatBits), quantize(q.x(), kQuatBits), quantize(q.y(), kQuatBits),
                            quantize(q.z(), kQuatBits));

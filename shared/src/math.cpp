@@ -68,15 +68,18 @@ Quat nlerp_from_identity(const Quat& q, double t) {
     // Take the short way round.
     const double sign = q.w() < 0.0 ? -1.0 : 1.0;
     const double u = 1.0 - t;
-    Quat r(u + t * sign * q.w(), t * sign * q.x(), t * sign * q.y(), t * sign * q.z());
-    r.normalize();
-    return r;
+    const double ts = t * sign;
+    const double w = u + ts * q.w(), x = ts * q.x(), y = ts * q.y(), z = ts * q.z();
+    // One square root and one division; Eigen's normalize() divides each
+    // component separately.
+    const double inv = 1.0 / std::sqrt(w * w + x * x + y * y + z * z);
+    return Quat(w * inv, x * inv, y * inv, z * inv);
 }
 
 Vec3 normalized_or(const Vec3& v, const Vec3& fallback, double min_len) {
     const double n2 = v.squaredNorm();
     if (!(n2 > min_len * min_len)) return fallback;
-    return v / std::sqrt(n2);
+    return v * (1.0 / std::sqrt(n2));
 }
 
 void Fnv1a::bytes(const void* data, std::size_t n) {

@@ -1,5 +1,7 @@
 #include "jetrace/resolver.hpp"
 
+#include "jetrace/sweep.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -42,10 +44,17 @@ void for_each(const Track& track, const Candidates& cand, F&& f) {
     }
 }
 
-// Direction from the surface point `q` to the centre `p`; if the centre lies
-// on the triangle, the face normal on the side the car came from.
-Vec3 contact_normal(const Triangle& t, const Vec3& q, const Vec3& p, double dist, const Vec3& came_from) {
-    if (dist > 1e-9) return (p - q) / dist;
+// Direction from the surface point `q` to the centre `p`. Inside the face
+// region that is the face normal (on the centre's side), exactly: a car at
+// rest on a flat floor then feels an exactly vertical normal, not one tilted
+// by the rounding of the closest point. If the centre lies on the triangle,
+// the face normal on the side the car came from.
+Vec3 contact_normal(const Triangle& t, const ClosestPoint& cp, const Vec3& p, double dist, const Vec3& came_from) {
+    const Vec3& q = cp.point;
+    if (dist > 1e-9) {
+        if (cp.region == TriRegion::face && !t.degenerate) return (p - q).dot(t.normal) < 0.0 ? Vec3(-t.normal) : t.normal;
+        return (p - q) / dist;
+    }
     if (t.degenerate) return kWorldUp;
     return (came_from - q).dot(t.normal) < 0.0 ? Vec3(-t.normal) : t.normal;
 }
@@ -58,6 +67,44 @@ inline bool beyond_plane(const Triangle& t, const Vec3& p, double reach) {
     return d > reach || d < -reach;
 }
 
+// The swept phase: moves the car from `from` towards `position` until its
+// first contact, stops it there (epsilon clear), removes its velocity into
+// the surface, and slides the rest of the motion along it; up to
+// sweep_contacts times. Returns the contacts met.
+int sweep_motion(const Track& track, const UniformGrid& grid, Broadphase bp, const PhysicsSettings& s,
+                 const Vec3& from, Vec3& position, Vec3& velocity, Candidates& cand) {
+    const double r = s.car_radius_m;
+    Vec3 p = from;
+    Vec3 d = position - from;
+    // Every slide stays within |d| of the start: one gather covers them all
+    // and the push-out that follows.
+    const double reach = std::sqrt(d.squaredNorm()) + r + s.contact_skin_m + kGatherMargin_m;
+    if (!cand.covers(from, reach)) gather_candidates(grid, bp, from, reach + kGatherMargin_m, cand);
+    int hits = 0;
+    while (true) {
+        SweepHit hit;
+        bool found = false;
+        for_each(track, cand, [&](const Triangle& t) {
+            found = sweep_sphere_triangle(p, d, r, t, hit) || found;
+            return true;
+        });
+        if (!found) {
+            p += d;
+            break;
+        }
+        const Vec3& n = hit.normal;
+        p += d * hit.t + n * s.resolver_epsilon_m;
+        const double vn = velocity.dot(n);
+        if (vn < 0.0) velocity -= n * vn;  // inelastic, as in the push-out
+        if (++hits == s.sweep_contacts) break;  // the rest of the motion is dropped
+        d *= 1.0 - hit.t;
+        const double dn = d.dot(n);
+        if (dn < 0.0) d -= n * dn;  // slide along the surface
+    }
+    position = p;
+    return hits;
+}
+
 }  // namespace
 
 void find_contacts(const Track& track, const Candidates& cand, const PhysicsSettings& s, const Vec3& center,
@@ -67,9 +114,9 @@ void find_contacts(const Track& track, const Candidates& cand, const PhysicsSett
     const double reach2 = reach * reach;
     for_each(track, cand, [&](const Triangle& t) {
         if (beyond_plane(t, center, reach)) return true;
-        const Vec3 q = closest_point_on_triangle(center, t).point;
-        const double d2 = (center - q).squaredNorm();
-        if (d2 < reach2) out.add(contact_normal(t, q, center, std::sqrt(d2), center + t.normal));
+        const ClosestPoint cp = closest_point_on_triangle(center, t);
+        const double d2 = (center - cp.point).squaredNorm();
+        if (d2 < reach2) out.add(contact_normal(t, cp, center, std::sqrt(d2), center + t.normal));
         return true;
     });
 }
@@ -81,6 +128,13 @@ ResolveStats resolve(const Track& track, const UniformGrid& grid, Broadphase bp,
     const double r2 = r * r;
     const double target = r + s.resolver_epsilon_m;
     const double query_radius = r + s.contact_skin_m;
+    if (s.collision_mode == CollisionMode::swept && (position - previous_position).squaredNorm() > 0.25 * r2) {
+        // Moving more than half the radius: the push-out alone could be
+        // fooled by a thin wall (docs/ACCURACY.md). Slower, it cannot: a
+        // sphere that started clear ends at least r/2 from every triangle
+        // on the side it came from.
+        stats.sweep_hits = sweep_motion(track, grid, bp, s, previous_position, position, velocity, cand);
+    }
     if (!cand.covers(position, query_radius)) {
         gather_candidates(grid, bp, position, query_radius + kGatherMargin_m, cand);
     }
@@ -88,12 +142,12 @@ ResolveStats resolve(const Track& track, const UniformGrid& grid, Broadphase bp,
         bool pushed = false;
         for_each(track, cand, [&](const Triangle& t) {
             if (beyond_plane(t, position, r)) return true;
-            const Vec3 q = closest_point_on_triangle(position, t).point;
-            const double d2 = (position - q).squaredNorm();
+            const ClosestPoint cp = closest_point_on_triangle(position, t);
+            const double d2 = (position - cp.point).squaredNorm();
             if (d2 > r2) return true;  // not touching: next triangle
             const double dist = std::sqrt(d2);
-            const Vec3 n = contact_normal(t, q, position, dist, previous_position);
-            position = q + n * target;
+            const Vec3 n = contact_normal(t, cp, position, dist, previous_position);
+            position = cp.point + n * target;
             const double vn = velocity.dot(n);
             if (vn < 0.0) velocity -= n * vn;  // inelastic: no velocity into the surface
             pushed = true;

@@ -23,6 +23,20 @@ bool parse_integrator(const std::string& s, Integrator& out) {
     return false;
 }
 
+const char* to_string(CollisionMode m) {
+    switch (m) {
+        case CollisionMode::discrete: return "discrete";
+        case CollisionMode::swept: return "swept";
+    }
+    return "unknown";
+}
+
+bool parse_collision_mode(const std::string& s, CollisionMode& out) {
+    if (s == "discrete") { out = CollisionMode::discrete; return true; }
+    if (s == "swept") { out = CollisionMode::swept; return true; }
+    return false;
+}
+
 namespace {
 bool finite_positive(double v) { return std::isfinite(v) && v > 0.0; }
 bool finite_non_negative(double v) { return std::isfinite(v) && v >= 0.0; }
@@ -45,6 +59,9 @@ std::string validate(const PhysicsSettings& s) {
     if (!(s.no_progress_s > 0.0 && s.no_progress_s < 3600.0)) err << "no_progress_s must be in (0, 3600); ";
     if (s.resolver_passes < 1 || s.resolver_passes > 100) err << "resolver_passes must be in [1, 100]; ";
     if (!finite_non_negative(s.resolver_epsilon_m) || s.resolver_epsilon_m > 0.5) err << "resolver_epsilon_m must be in [0, 0.5]; ";
+    if (s.collision_mode != CollisionMode::discrete && s.collision_mode != CollisionMode::swept)
+        err << "collision_mode must be discrete or swept; ";
+    if (s.sweep_contacts < 1 || s.sweep_contacts > 32) err << "sweep_contacts must be in [1, 32]; ";
     if (!finite_positive(s.contact_skin_m) || s.contact_skin_m <= s.resolver_epsilon_m || s.contact_skin_m > 1.0)
         err << "contact_skin_m must be in (resolver_epsilon_m, 1]; ";
     return err.str();
@@ -67,6 +84,8 @@ std::uint64_t physics_fingerprint(const PhysicsSettings& s) {
     h.i32(s.resolver_passes);
     h.f64(s.resolver_epsilon_m);
     h.f64(s.contact_skin_m);
+    h.u8(static_cast<std::uint8_t>(s.collision_mode));
+    h.i32(s.sweep_contacts);
     h.u8(static_cast<std::uint8_t>(s.integrator));
     h.u8(s.quantize_state ? 1 : 0);
     return h.value();

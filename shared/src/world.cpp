@@ -45,6 +45,8 @@ void ensure_scratch(std::size_t n, StepScratch& s) {
         s.contacts_at.resize(n);
         s.contacts_valid.assign(n, 0);
         s.previous_position.resize(n);
+        s.clear_at.resize(n);
+        s.clear_valid.assign(n, 0);
     }
 }
 
@@ -68,7 +70,7 @@ void drive_phase(const Scene& sc, WorldState& st, std::span<const Input> inputs,
         if (!cand.covers(car.position, reach - kGatherMargin_m)) {
             gather_candidates(sc.grid, sc.broadphase, car.position, reach, cand);
         }
-        if (!scr.contacts_valid[i] || scr.contacts_at[i] != car.position) {
+        if (!scr.contacts_valid[i] || !same(scr.contacts_at[i], car.position)) {
             find_contacts(sc.track, cand, ps, car.position, scr.contacts[i]);
             scr.contacts_at[i] = car.position;
             scr.contacts_valid[i] = 1;
@@ -86,10 +88,16 @@ void resolve_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
     for (std::size_t i = 0; i < st.cars.size(); ++i) {
         CarState& car = st.cars[i];
         if (!car.active) continue;
+        // Exact shortcut: the resolver already found this very position
+        // clear of every triangle, and only the position decides that.
+        if (scr.clear_valid[i] && same(scr.clear_at[i], car.position)) continue;
         const ResolveStats r = resolve(sc.track, sc.grid, sc.broadphase, sc.physics, scr.previous_position[i],
                                        car.position, car.velocity, scr.candidates[i]);
         scr.pushes += r.pushes;
         scr.capped += r.capped ? 1 : 0;
+        // Fewer pushes than passes: the last pass found nothing touching.
+        scr.clear_valid[i] = r.pushes < sc.physics.resolver_passes ? 1 : 0;
+        scr.clear_at[i] = car.position;
     }
 }
 
@@ -107,7 +115,7 @@ void rules_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
         if (!cand.covers(car.position, reach)) {
             gather_candidates(sc.grid, sc.broadphase, car.position, reach + kGatherMargin_m, cand);
         }
-        if (!scr.contacts_valid[i] || scr.contacts_at[i] != car.position) {
+        if (!scr.contacts_valid[i] || !same(scr.contacts_at[i], car.position)) {
             find_contacts(sc.track, cand, ps, car.position, scr.contacts[i]);
             scr.contacts_at[i] = car.position;
             scr.contacts_valid[i] = 1;

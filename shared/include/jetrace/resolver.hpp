@@ -44,11 +44,15 @@ void find_contacts(const Track& track, const Candidates& cand, const PhysicsSett
 struct ResolveStats {
     /// Push-outs performed this step.
     int pushes = 0;
+    /// First contacts met by the swept test this step (CollisionMode::swept).
+    int sweep_hits = 0;
     /// True if the pass cap stopped the resolver with the car still inside a triangle.
     bool capped = false;
 };
 
-/// The seed's discrete push-out, made safe: up to resolver_passes times, find
+/// In CollisionMode::swept, a car that moved more than half its radius since
+/// `previous_position` is first swept along that motion (sweep.hpp). Then
+/// the seed's discrete push-out, made safe: up to resolver_passes times, find
 /// the first candidate triangle the sphere touches or penetrates (distance <=
 /// radius), move the centre to radius + epsilon from its closest point and
 /// remove the velocity into it. With epsilon 0 a pushed-out triangle still

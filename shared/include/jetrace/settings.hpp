@@ -20,6 +20,21 @@ enum class Integrator : std::uint8_t {
 };
 
 const char* to_string(Integrator i);
+
+enum class CollisionMode : std::uint8_t {
+    /// The seed's method: push the car out of wherever the step ends. A car
+    /// moving more than about its radius per step can pass a thin wall.
+    discrete = 0,
+    /// Sweep the sphere along the step's motion first (first contact, slide
+    /// along), then push out: no pass-through at any speed the step rate
+    /// can carry (docs/ACCURACY.md). Costs nothing for a car moving less
+    /// than half its radius per step (unit: none). The default.
+    swept = 1,
+};
+
+const char* to_string(CollisionMode m);
+/// Parses "discrete" or "swept". Returns false if unknown.
+bool parse_collision_mode(const std::string& s, CollisionMode& out);
 /// Parses "explicit", "semi-implicit" or "verlet". Returns false if unknown.
 bool parse_integrator(const std::string& s, Integrator& out);
 
@@ -67,6 +82,10 @@ struct PhysicsSettings {
     /// A triangle closer than radius + skin counts as a contact for friction,
     /// thrust and alignment (unit: m). Must exceed resolver_epsilon_m.
     double contact_skin_m = 0.05;
+    /// Discrete push-out only, or a swept test first: see CollisionMode.
+    CollisionMode collision_mode = CollisionMode::swept;
+    /// Most slides along surfaces in one step of the swept test (unit: contacts).
+    int sweep_contacts = 4;
     /// How the car moves between positions: see Integrator.
     Integrator integrator = Integrator::velocity_verlet;
     /// Round positions and velocities to 2^-quant_bits after every step so

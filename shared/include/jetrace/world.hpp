@@ -49,6 +49,10 @@ struct StepScratch {
     std::vector<Vec3> contacts_at;
     std::vector<std::uint8_t> contacts_valid;
     std::vector<Vec3> previous_position;
+    /// A position the resolver last left each car at, clear of the track:
+    /// a car found there again (at rest) needs no push-out test.
+    std::vector<Vec3> clear_at;
+    std::vector<std::uint8_t> clear_valid;
     /// Push-outs and capped resolves in the last step (diagnostics).
     int pushes = 0;
     int capped = 0;

@@ -14,6 +14,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -36,9 +37,19 @@ struct ClientConfig {
     std::uint32_t input_interval_ticks = 3;
     /// Fraction of a visible correction removed per tick (unit: 1/tick).
     double smoothing_per_tick = 0.1;
+    /// After the connection drops (no Goodbye from the server), keep trying
+    /// to reconnect with the Welcome's reconnect token this long; match the
+    /// server's reconnect grace. Needs the Connector constructor; 0: never
+    /// (unit: s).
+    double reconnect_window_s = 10.0;
+    /// Pause between two reconnect attempts that could not start (unit: s).
+    double reconnect_retry_s = 0.5;
+    /// Hello.connect_token: a signed connect token for a private race
+    /// (jetrace-token issue), or empty (unit: bytes).
+    std::vector<std::uint8_t> connect_token;
 };
 
-enum class ClientState : std::uint8_t { connecting, waiting_welcome, in_lobby, racing, closed };
+enum class ClientState : std::uint8_t { connecting, waiting_welcome, in_lobby, racing, reconnecting, closed };
 
 struct ClientStats {
     /// Snapshots received and decoded.
@@ -51,14 +62,23 @@ struct ClientStats {
     std::uint64_t snapshots_dropped = 0;
     /// Times the clock jumped instead of drifting to the right lead.
     std::uint64_t clock_resyncs = 0;
+    /// Times the client got its slot back after a drop.
+    std::uint64_t reconnects = 0;
 };
 
 /// Gives the input for the client's own car for the next tick.
 using InputSource = std::function<Input(const Scene& scene, const WorldState& predicted, int slot)>;
 
+/// Opens a new connection to the server (nullptr: cannot right now).
+using Connector = std::function<std::unique_ptr<net::Transport>()>;
+
 class RaceClient {
 public:
+    /// Over the caller's transport; no reconnects.
     RaceClient(const ClientConfig& config, const Scene& scene, net::Transport& transport);
+    /// Connects through `connect` now, and again after a drop to take its
+    /// car back (docs/PROTOCOL.md, "Reconnecting").
+    RaceClient(const ClientConfig& config, const Scene& scene, Connector connect);
 
     /// Handles the network and runs the prediction ticks due by `now_us`.
     void update(std::uint64_t now_us, const InputSource& input);
@@ -82,6 +102,10 @@ public:
     const proto::Results& results() const { return results_; }
     std::uint32_t races_finished() const { return races_finished_; }
     double rtt_ms() const;
+    /// The Welcome's reconnect token (empty before a Welcome).
+    const std::vector<std::uint8_t>& reconnect_token() const { return reconnect_token_; }
+    /// Traffic of every connection this client made so far.
+    net::Totals totals() const;
 
     /// Where to draw the own car: the prediction plus a correction offset
     /// that fades out (kept apart from the simulated state).
@@ -102,10 +126,22 @@ private:
     void send_inputs();
     void close(const std::string& reason);
     void adjust_clock(const proto::Snapshot& s);
+    void send_hello();
+    /// Forgets the prediction and snapshots: the next snapshot restarts them.
+    void reset_world();
+    bool may_reconnect() const;
+    void reconnect_step();
 
     ClientConfig config_;
     const Scene& scene_;
-    net::Transport& transport_;
+    Connector connector_;
+    std::unique_ptr<net::Transport> owned_;  // with a Connector
+    net::Transport* transport_ = nullptr;
+    net::Totals past_totals_;  // of the connections before this one
+    std::vector<std::uint8_t> reconnect_token_;
+    std::uint64_t dropped_at_us_ = 0;
+    std::uint64_t next_attempt_us_ = 0;
+    bool need_connection_ = false;
     ClientState state_ = ClientState::connecting;
     std::string close_reason_;
     int slot_ = -1;

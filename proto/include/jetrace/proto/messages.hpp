@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
@@ -28,6 +29,9 @@ inline constexpr std::size_t kMaxReasonBytes = 256;
 inline constexpr int kMaxSlots = 64;
 /// Length of the reconnect token in Welcome/Hello (unit: bytes).
 inline constexpr std::size_t kTokenBytes = 16;
+/// Longest connect token in Hello (unit: bytes; its layout is checked by
+/// jetrace::auth::parse_connect_token, not here).
+inline constexpr std::size_t kMaxConnectTokenBytes = 256;
 /// "No baseline": the snapshot is encoded against nothing.
 inline constexpr std::uint32_t kNoTick = 0xFFFFFFFFu;
 
@@ -40,6 +44,9 @@ struct Hello {
     std::string name;
     /// Empty, or the token of an earlier Welcome to take back a car after a drop.
     std::vector<std::uint8_t> reconnect_token;
+    /// Empty, or a signed connect token for a private race (at most
+    /// kMaxConnectTokenBytes; docs/PROTOCOL.md, "Connect tokens").
+    std::vector<std::uint8_t> connect_token;
 };
 
 /// Server -> client, reliable: accepted.
@@ -133,6 +140,10 @@ std::vector<std::uint8_t> encode(const Message& m);
 /// Parses and verifies untrusted bytes. False with a reason on anything
 /// malformed, truncated, oversized, too deeply nested or out of range.
 bool decode(std::span<const std::uint8_t> bytes, Message& out, std::string& error);
+
+/// True for valid UTF-8 without control characters: the rule every text
+/// field of the protocol follows (see docs/PROTOCOL.md, "Validation").
+bool valid_text(std::string_view text);
 
 /// Hash of the settings that must match between server and client.
 std::uint64_t physics_hash(const PhysicsSettings& s);

@@ -7,6 +7,7 @@
 // describes what a client sees.
 #pragma once
 
+#include "jetrace/auth/token_verifier.hpp"
 #include "jetrace/net/transport.hpp"
 #include "jetrace/proto/messages.hpp"
 #include "jetrace/proto/world_codec.hpp"
@@ -16,7 +17,10 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <deque>
 #include <map>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -49,6 +53,18 @@ struct ServerConfig {
     std::string results_path;
     /// Replay of each race (overwritten by the next race) ("" = none).
     std::string record_path;
+    /// A player whose connection drops without a Goodbye keeps its slot, and
+    /// its car (driven with neutral inputs), this long for a Hello with its
+    /// reconnect token; 0 frees the slot at once (unit: s).
+    double reconnect_grace_s = 10.0;
+    /// Private race: only Hellos with a connect token signed by the secret
+    /// half of this Ed25519 public key get in (unset = an open server).
+    std::optional<auth::PublicKey> connect_key;
+    /// Connect tokens must carry exactly this race id ("" = none).
+    std::string race_id;
+    /// Unexpired connect-token nonces remembered against replays; when full,
+    /// new tokens are refused (unit: tokens).
+    std::size_t max_connect_nonces = 4096;
 };
 
 /// Empty if usable, else what is wrong.
@@ -68,6 +84,9 @@ public:
     /// Handles the network and runs every tick due by `now_us` (the caller's
     /// clock). Returns the number of ticks stepped.
     int update(std::uint64_t now_us);
+    /// The same, and sets the wall clock connect tokens expire by (unit: s
+    /// since 1970 UTC). A private race refuses every token until it is set.
+    int update(std::uint64_t now_us, std::int64_t unix_time_s);
 
     /// Ends the race in progress (results so far are written), tells every
     /// client why, and makes done() true.
@@ -80,6 +99,8 @@ public:
     std::uint64_t ticks() const { return ticks_; }
     int max_players_seen() const { return max_players_seen_; }
     int players() const;
+    /// Slots held for players who dropped, waiting for their reconnect.
+    int held_slots() const { return static_cast<int>(held_.size()); }
 
     /// Called at the end of every race (after the results file is written).
     std::function<void(const RaceEnd&)> on_race_end;
@@ -87,11 +108,17 @@ public:
 private:
     static constexpr std::size_t kInputRing = 256;
     static constexpr std::size_t kHistory = 128;
+    /// Spent reconnect tokens remembered to refuse them with a clear reason.
+    static constexpr std::size_t kRetiredTokens = 256;
+    using ReconnectToken = std::array<std::uint8_t, proto::kTokenBytes>;
 
     struct Client {
         net::PeerId peer = 0;
         bool greeted = false;
         std::string name;
+        /// Hello.name as sent (a reconnect must send the same).
+        std::string hello_name;
+        ReconnectToken reconnect_token{};
         int slot = -1;
         bool spectating = false;
         std::uint64_t connected_us = 0;
@@ -117,6 +144,19 @@ private:
     void on_hello(Client& c, const proto::Hello& h);
     void on_inputs(Client& c, const proto::InputBatch& b);
     void drop(net::PeerId peer, const std::string& reason);
+    void refuse(Client& c, const std::string& name, const std::string& reason);
+    void send_welcome(Client& c);
+
+    // Reconnects (server/src/reconnect.cpp).
+    /// A welcomed client is gone: hold its slot for the grace period if
+    /// `may_return`, else free the slot, remove its car and remember `why`
+    /// its reconnect token is void.
+    void release(Client&& c, bool may_return, std::string why);
+    void expire_held();
+    void on_reconnect(Client& c, const proto::Hello& h);
+    void retire(const ReconnectToken& token, std::string why);
+    /// The connected or held client in `slot`, or nullptr.
+    const Client* owner_of(int slot) const;
     void send(net::PeerId peer, net::Channel ch, const proto::Message& m);
     void broadcast_status();
 
@@ -140,6 +180,16 @@ private:
     std::map<net::PeerId, Client> clients_;  // ordered: deterministic iteration
     std::vector<net::PeerId> slot_peer_;     // per slot, or kNoPeer
     static constexpr net::PeerId kNoPeer = 0xFFFFFFFFu;
+    /// In slot_peer_: the slot's player dropped and may reconnect (held_).
+    static constexpr net::PeerId kHeldPeer = 0xFFFFFFFEu;
+    struct Held {
+        Client client;
+        std::uint64_t until_us = 0;
+    };
+    std::map<int, Held> held_;  // by slot
+    std::deque<std::pair<ReconnectToken, std::string>> retired_;
+    std::unique_ptr<auth::TokenVerifier> verifier_;  // private races only
+    std::int64_t unix_time_s_ = -1;                  // -1: not set
 
     proto::RacePhase phase_ = proto::RacePhase::lobby;
     std::uint32_t race_number_ = 0;

@@ -1,0 +1,35 @@
+// Continuous collision: a sphere swept along a segment against triangles.
+//
+// The seed's push-out is discrete: it looks only at where the car ends a
+// step. A car that moves more than its radius in one step (the seed's car
+// peaks near 3 m per frame, its radius is 2.5 m) can end on the far side of
+// a thin wall and be pushed out the wrong way, or pass it entirely. The
+// sweep finds the first time of contact along the step's motion instead,
+// stops the car there, removes its velocity into the surface and lets the
+// rest of the motion slide along it (docs/ACCURACY.md).
+#pragma once
+
+#include "jetrace/geometry.hpp"
+#include "jetrace/math.hpp"
+
+namespace jetrace {
+
+struct SweepHit {
+    /// Fraction of the motion at first contact, in [0, 1].
+    double t = 1.0;
+    /// Unit normal of the contact, from the triangle towards the sphere.
+    Vec3 normal{0, 0, 0};
+};
+
+/// First contact of a sphere of radius `r` whose centre moves from `p0` by
+/// `d` with triangle `tri`: its face, then its edges and vertices (Ericson,
+/// Real-Time Collision Detection 5.5.6). Returns false if the sphere never
+/// comes within `r` during the motion, or only moves away. A sphere already
+/// within `r` of the face's interior and moving into it hits at t = 0;
+/// otherwise features it already touches at the start are left to the
+/// push-out. Returns true, and overwrites `hit`, only for a contact earlier
+/// than `hit.t`: called over several triangles it keeps the earliest (the
+/// first triangle in call order on ties).
+bool sweep_sphere_triangle(const Vec3& p0, const Vec3& d, double r, const Triangle& tri, SweepHit& hit);
+
+}  // namespace jetrace
