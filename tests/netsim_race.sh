@@ -10,7 +10,17 @@ set -euo pipefail
 . "$(dirname "$0")/../tools/server_port.sh"
 server="$1" bot="$2" sim="$3" netsim="$4"
 out="$(mktemp -d)"
-trap 'kill "$server_pid" "$netsim_pid" 2>/dev/null || true; rm -rf "$out"' EXIT
+cleanup() {
+  rc=$?
+  kill "$server_pid" "$netsim_pid" 2>/dev/null || true
+  if [ "$rc" != 0 ]; then
+    echo "netsim_race: failed (exit $rc); logs:"
+    cat "$out"/*.log "$out/bots.json" 2>/dev/null || true
+  fi
+  rm -rf "$out"
+}
+server_pid="" netsim_pid=""
+trap cleanup EXIT
 "$server" --bind 127.0.0.1 --port 0 --track ring --laps 1 --min-players 3 --max-players 3 --races 1 \
   --time-scale 4 --countdown 1 --record "$out/race.replay" --log-level warn >"$out/server.log" 2>&1 &
 server_pid=$!
