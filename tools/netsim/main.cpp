@@ -36,8 +36,9 @@ struct ConditionOption {
 
 nlohmann::json to_json(const jetrace::netsim::DirectionCounters& d) {
     return {{"received", d.received},         {"forwarded", d.forwarded},   {"forwarded_bytes", d.forwarded_bytes},
-            {"dropped", d.dropped},           {"duplicated", d.duplicated}, {"reordered", d.reordered},
-            {"rate_limited", d.rate_limited}, {"send_failed", d.send_failed}, {"pending", d.pending}};
+            {"dropped", d.scheduler.dropped},           {"duplicated", d.scheduler.duplicated},
+            {"reordered", d.scheduler.reordered},       {"rate_limited", d.scheduler.rate_limited},
+            {"send_failed", d.send_failed},             {"pending", d.pending}};
 }
 
 }  // namespace

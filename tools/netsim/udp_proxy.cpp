@@ -256,12 +256,8 @@ void UdpProxy::close_session(std::uint64_t id) {
 ProxyCounters UdpProxy::counters() const {
     ProxyCounters c = counters_;
     const auto fill = [](DirectionCounters& d, const net::DatagramScheduler& scheduler) {
-        const net::SchedulerStats& s = scheduler.stats();
         d.pending = scheduler.pending();
-        d.dropped = s.dropped;
-        d.duplicated = s.duplicated;
-        d.reordered = s.reordered;
-        d.rate_limited = s.rate_limited;
+        d.scheduler = scheduler.stats();
     };
     fill(c.up, up_);
     fill(c.down, down_);

@@ -47,10 +47,8 @@ struct DirectionCounters {
     std::uint64_t forwarded = 0;
     /// Payload bytes forwarded (unit: bytes).
     std::uint64_t forwarded_bytes = 0;
-    std::uint64_t dropped = 0;
-    std::uint64_t duplicated = 0;
-    std::uint64_t reordered = 0;
-    std::uint64_t rate_limited = 0;
+    /// The direction's scheduler: dropped, duplicated, reordered, rate-limited.
+    net::SchedulerStats scheduler;
     /// Datagrams that could not be sent (socket errors, client expired).
     std::uint64_t send_failed = 0;
     /// Datagrams still queued or held (not yet due).
