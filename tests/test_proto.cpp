@@ -495,7 +495,7 @@ TEST(ProtoMessages, PhysicsHashCoversEveryField) {
         [](S& s) { s.resolver_passes = 10; }, [](S& s) { s.resolver_epsilon_m = 1e-3; },
         [](S& s) { s.contact_skin_m = 0.1; }, [](S& s) { s.integrator = jetrace::Integrator::explicit_euler; },
         [](S& s) { s.quantize_state = false; }, [](S& s) { s.collision_mode = jetrace::CollisionMode::discrete; },
-        [](S& s) { s.sweep_contacts = 2; }};
+        [](S& s) { s.sweep_contacts = 2; }, [](S& s) { s.push_out = jetrace::PushOut::first_contact; }};
     for (std::size_t i = 0; i < mutations.size(); ++i) {
         S s = base;
         mutations[i](s);

@@ -147,9 +147,12 @@ TEST(Resolver, SlidesAlongWall) {
 // car at exactly r from the triangle it pushed out of; for an axis-aligned
 // wall at x = 20 the pushed centre is at x = 17.5 exactly, so the distance
 // recomputed on the next pass is exactly r and the wall still counts as
-// "touching" (d <= r). The resolver takes the first touching triangle in
-// index order each pass, so the wall, listed before the floor, eats every
-// pass, and a floor penetration is never resolved.
+// "touching" (d <= r). The seed's resolver (PushOut::first_contact) takes
+// the first touching triangle in index order each pass, so the wall, listed
+// before the floor, eats every pass, and a floor penetration is never
+// resolved. The default PushOut::each_contact visits every triangle in each
+// pass, so even at epsilon 0 the floor gets its push (each pass still counts
+// the wall as touching and the cap is spent, but nothing is left inside).
 //
 // A car merely driving into the wall while resting on the floor does NOT
 // fall (it never penetrates the floor: the floor's normal force cancels
@@ -158,6 +161,13 @@ TEST(Resolver, SlidesAlongWall) {
 // the wall, moving into it at 20 m/s with full throttle (thrust takes over
 // once it is on the floor). With epsilon 0 it sinks through the floor at its
 // landing speed and then falls; with the default epsilon it lands and stays.
+PhysicsSettings seed_resolver_epsilon0() {
+    PhysicsSettings s = test_physics();
+    s.resolver_epsilon_m = 0.0;
+    s.push_out = PushOut::first_contact;
+    return s;
+}
+
 TEST(Resolver, SeedBugEpsilonZeroFallsThroughFloor) {
     Mesh m;
     m.wall_x(20.0, 30.0, 500.0);  // wall triangles first in index order
@@ -165,8 +175,7 @@ TEST(Resolver, SeedBugEpsilonZeroFallsThroughFloor) {
     const Pose start{Vec3(20.0 - kRest - 3.0, kRest + 1.0, 0.0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
     const Input full = Input::clamped(15, 0, 0);
 
-    PhysicsSettings failing = test_physics();
-    failing.resolver_epsilon_m = 0.0;
+    const PhysicsSettings failing = seed_resolver_epsilon0();
     ASSERT_EQ(validate(failing), "");
     {
         const Scene sc = make_scene(m, failing);
@@ -188,6 +197,20 @@ TEST(Resolver, SeedBugEpsilonZeroFallsThroughFloor) {
         EXPECT_GT(capped_ticks, 0) << "the wall should eat every pass (pass cap reached while penetrating)";
     }
     {
+        // Each-contact passes at epsilon 0: the floor still gets its push.
+        PhysicsSettings each = failing;
+        each.push_out = PushOut::each_contact;
+        const Scene sc = make_scene(m, each);
+        WorldState st = one_car(start, Vec3(20, 0, 0));
+        StepScratch scratch;
+        double min_y = 1e300;
+        for (int i = 0; i < 600; ++i) {
+            step1(sc, st, full, scratch);
+            min_y = std::min(min_y, st.cars[0].position.y());
+        }
+        EXPECT_NEAR(min_y, kR, 1e-3) << "each-contact passes at epsilon 0 should still land on the floor";
+    }
+    {
         const Scene sc = make_scene(m, test_physics());
         WorldState st = one_car(start, Vec3(20, 0, 0));
         StepScratch scratch;
@@ -207,16 +230,16 @@ TEST(Resolver, SeedBugEpsilonZeroFallsThroughFloor) {
 }
 
 // The same mechanism the other way round: with the floor first in index order
-// and epsilon 0, the floor eats every pass and the car, thrusting into the
-// wall, drives through the wall. The default epsilon stops it at the wall.
+// and epsilon 0, the seed's resolver lets the floor eat every pass and the
+// car, thrusting into the wall, drives through the wall. The default stops it
+// at the wall.
 TEST(Resolver, SeedBugEpsilonZeroFloorFirstDrivesThroughWall) {
     Mesh m;
     m.floor(500.0);
     m.wall_x(20.0, 30.0, 500.0);
     const Pose start{Vec3(20.0 - kRest - 3.0, kRest + 1.0, 0.0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
     const Input full = Input::clamped(15, 0, 0);
-    PhysicsSettings failing = test_physics();
-    failing.resolver_epsilon_m = 0.0;
+    const PhysicsSettings failing = seed_resolver_epsilon0();
     double max_x[2];
     for (int variant = 0; variant < 2; ++variant) {
         const Scene sc = make_scene(m, variant == 0 ? failing : test_physics());

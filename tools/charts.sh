@@ -81,7 +81,7 @@ set xtics autofreq
 
 # -------------------------------------------------------------------- resolver
 set output O.'/resolver.svg'
-set multiplot layout 1,3 title 'Resolver in a corner of 3 x 48 thin triangles: passes x epsilon (default 20 passes, 1/1024 m)'
+set multiplot layout 1,3 title 'Resolver in a corner of 3 x 48 thin triangles: passes x epsilon (default each-contact, 20 passes, 1/1024 m; dashed: the seed'."'".'s first-contact passes)'
 unset logscale
 set logscale x
 set format y '%g'
@@ -89,14 +89,19 @@ set xlabel 'passes'
 eps = '0 0.000244140625 0.0009765625 0.00390625 0.015625'
 epsn = '0 1/4096 1/1024 1/256 1/64'
 set key top right
+each(m) = strcol(1) eq 'each-contact'
+first(m) = strcol(1) eq 'first-contact'
 set title 'deepest penetration at 60 m/s (m)'
 set ylabel 'm'
-plot for [i=1:5] D.'/resolver.csv' using 1:(abs(\$2 - word(eps,i)+0) < 1e-12 ? \$3 : 1/0) smooth unique with linespoints title 'eps '.word(epsn,i)
+plot for [i=1:5] D.'/resolver.csv' using 2:(each(0) && abs(\$3 - word(eps,i)+0) < 1e-12 ? \$4 : 1/0) smooth unique with linespoints lc i title 'eps '.word(epsn,i), \
+     for [i=1:3:2] D.'/resolver.csv' using 2:(first(0) && abs(\$3 - word(eps,i)+0) < 1e-12 ? \$4 : 1/0) smooth unique with linespoints lc i dt 2 title 'first-contact, eps '.word(epsn,i)
 set title 'jitter held in the corner (m/step)'
-plot for [i=1:5] D.'/resolver.csv' using 1:(abs(\$2 - word(eps,i)+0) < 1e-12 ? \$6 : 1/0) smooth unique with linespoints title 'eps '.word(epsn,i)
+plot for [i=1:5] D.'/resolver.csv' using 2:(each(0) && abs(\$3 - word(eps,i)+0) < 1e-12 ? \$7 : 1/0) smooth unique with linespoints lc i title 'eps '.word(epsn,i), \
+     for [i=1:3:2] D.'/resolver.csv' using 2:(first(0) && abs(\$3 - word(eps,i)+0) < 1e-12 ? \$7 : 1/0) smooth unique with linespoints lc i dt 2 title 'first-contact, eps '.word(epsn,i)
 set title 'cost held in the corner (ns/step)'
 set ylabel 'ns per step'
-plot for [i=1:5] D.'/resolver.csv' using 1:(abs(\$2 - word(eps,i)+0) < 1e-12 ? \$8 : 1/0) smooth unique with linespoints title 'eps '.word(epsn,i)
+plot for [i=1:5] D.'/resolver.csv' using 2:(each(0) && abs(\$3 - word(eps,i)+0) < 1e-12 ? \$9 : 1/0) smooth unique with linespoints lc i title 'eps '.word(epsn,i), \
+     for [i=1:3:2] D.'/resolver.csv' using 2:(first(0) && abs(\$3 - word(eps,i)+0) < 1e-12 ? \$9 : 1/0) smooth unique with linespoints lc i dt 2 title 'first-contact, eps '.word(epsn,i)
 unset multiplot
 
 # ------------------------------------------------------------------ tunnelling

@@ -121,12 +121,59 @@ void find_contacts(const Track& track, const Candidates& cand, const PhysicsSett
     });
 }
 
+namespace {
+
+// One push-out pass: in ascending triangle order, every candidate the sphere
+// touches (distance <= r) moves the centre to r + epsilon from its closest
+// point and loses its velocity into it; PushOut::first_contact stops after
+// the first. Returns the pushes made.
+//
+// The result depends only on the geometry, never on where the candidates
+// were gathered (a client restoring a snapshot into fresh scratch gathers
+// elsewhere than the server did): when a push carries the car out of the
+// gathered region, the candidates are gathered again around it and the pass
+// resumes after the triangle it was at. The triangles it skips were checked
+// at positions the old region covered, as brute force would have.
+int push_pass(const Track& track, const UniformGrid& grid, Broadphase bp, const PhysicsSettings& s,
+              const Vec3& previous_position, Vec3& position, Vec3& velocity, Candidates& cand) {
+    const double r = s.car_radius_m;
+    const double r2 = r * r;
+    const double target = r + s.resolver_epsilon_m;
+    const double query_radius = r + s.contact_skin_m;
+    int pushes = 0;
+    std::size_t k = 0;
+    while (k < (cand.all ? track.triangles.size() : cand.triangles.size())) {
+        const std::uint32_t index = cand.all ? static_cast<std::uint32_t>(k) : cand.triangles[k];
+        ++k;
+        const Triangle& t = track.triangles[index];
+        if (beyond_plane(t, position, r)) continue;
+        const ClosestPoint cp = closest_point_on_triangle(position, t);
+        const double d2 = (position - cp.point).squaredNorm();
+        if (d2 > r2) continue;  // not touching
+        const Vec3 n = contact_normal(t, cp, position, std::sqrt(d2), previous_position);
+        position = cp.point + n * target;
+        const double vn = velocity.dot(n);
+        if (vn < 0.0) velocity -= n * vn;  // inelastic: no velocity into the surface
+        ++pushes;
+        if (!cand.covers(position, query_radius)) {
+            gather_candidates(grid, bp, position, query_radius + kGatherMargin_m, cand);
+            if (!cand.all) {
+                k = static_cast<std::size_t>(std::upper_bound(cand.triangles.begin(), cand.triangles.end(), index) -
+                                             cand.triangles.begin());
+            }
+        }
+        if (s.push_out == PushOut::first_contact) break;
+    }
+    return pushes;
+}
+
+}  // namespace
+
 ResolveStats resolve(const Track& track, const UniformGrid& grid, Broadphase bp, const PhysicsSettings& s,
                      const Vec3& previous_position, Vec3& position, Vec3& velocity, Candidates& cand) {
     ResolveStats stats;
     const double r = s.car_radius_m;
     const double r2 = r * r;
-    const double target = r + s.resolver_epsilon_m;
     const double query_radius = r + s.contact_skin_m;
     if (s.collision_mode == CollisionMode::swept && (position - previous_position).squaredNorm() > 0.25 * r2) {
         // Moving more than half the radius: the push-out alone could be
@@ -139,28 +186,13 @@ ResolveStats resolve(const Track& track, const UniformGrid& grid, Broadphase bp,
         gather_candidates(grid, bp, position, query_radius + kGatherMargin_m, cand);
     }
     for (int pass = 0; pass < s.resolver_passes; ++pass) {
-        bool pushed = false;
-        for_each(track, cand, [&](const Triangle& t) {
-            if (beyond_plane(t, position, r)) return true;
-            const ClosestPoint cp = closest_point_on_triangle(position, t);
-            const double d2 = (position - cp.point).squaredNorm();
-            if (d2 > r2) return true;  // not touching: next triangle
-            const double dist = std::sqrt(d2);
-            const Vec3 n = contact_normal(t, cp, position, dist, previous_position);
-            position = cp.point + n * target;
-            const double vn = velocity.dot(n);
-            if (vn < 0.0) velocity -= n * vn;  // inelastic: no velocity into the surface
-            pushed = true;
-            return false;  // one push per pass
-        });
-        if (!pushed) break;
-        ++stats.pushes;
-        if (!cand.covers(position, query_radius)) {
-            gather_candidates(grid, bp, position, query_radius + kGatherMargin_m, cand);
-        }
+        const int pushes = push_pass(track, grid, bp, s, previous_position, position, velocity, cand);
+        if (pushes == 0) break;
+        ++stats.passes;
+        stats.pushes += pushes;
     }
-    if (stats.pushes == s.resolver_passes) {
-        // Did the last push leave the car clear?
+    if (stats.passes == s.resolver_passes) {
+        // Did the last pass leave the car clear?
         for_each(track, cand, [&](const Triangle& t) {
             const Vec3 q = closest_point_on_triangle(position, t).point;
             if ((position - q).squaredNorm() < r2) {

@@ -31,6 +31,14 @@ const char* to_string(CollisionMode m) {
     return "unknown";
 }
 
+const char* to_string(PushOut p) {
+    switch (p) {
+        case PushOut::first_contact: return "first-contact";
+        case PushOut::each_contact: return "each-contact";
+    }
+    return "unknown";
+}
+
 bool parse_collision_mode(const std::string& s, CollisionMode& out) {
     if (s == "discrete") { out = CollisionMode::discrete; return true; }
     if (s == "swept") { out = CollisionMode::swept; return true; }
@@ -58,6 +66,8 @@ std::string validate(const PhysicsSettings& s) {
     if (!(s.ride_min_cos >= -1.0 && s.ride_min_cos <= 1.0)) err << "ride_min_cos must be in [-1, 1]; ";
     if (!(s.no_progress_s > 0.0 && s.no_progress_s < 3600.0)) err << "no_progress_s must be in (0, 3600); ";
     if (s.resolver_passes < 1 || s.resolver_passes > 100) err << "resolver_passes must be in [1, 100]; ";
+    if (s.push_out != PushOut::first_contact && s.push_out != PushOut::each_contact)
+        err << "push_out must be first_contact or each_contact; ";
     if (!finite_non_negative(s.resolver_epsilon_m) || s.resolver_epsilon_m > 0.5) err << "resolver_epsilon_m must be in [0, 0.5]; ";
     if (s.collision_mode != CollisionMode::discrete && s.collision_mode != CollisionMode::swept)
         err << "collision_mode must be discrete or swept; ";
@@ -69,6 +79,7 @@ std::string validate(const PhysicsSettings& s) {
 
 std::uint64_t physics_fingerprint(const PhysicsSettings& s) {
     Fnv1a h;
+    h.u32(kPhysicsRevision);
     h.i32(s.tick_rate_hz);
     h.f64(s.gravity_mps2);
     h.f64(s.car_radius_m);
@@ -82,6 +93,7 @@ std::uint64_t physics_fingerprint(const PhysicsSettings& s) {
     h.f64(s.ride_min_cos);
     h.f64(s.no_progress_s);
     h.i32(s.resolver_passes);
+    h.u8(static_cast<std::uint8_t>(s.push_out));
     h.f64(s.resolver_epsilon_m);
     h.f64(s.contact_skin_m);
     h.u8(static_cast<std::uint8_t>(s.collision_mode));

@@ -2,6 +2,7 @@
 
 #include "jetrace/race.hpp"
 
+#include <algorithm>
 #include <cassert>
 #include <cstdio>
 
@@ -84,6 +85,7 @@ void drive_phase(const Scene& sc, WorldState& st, std::span<const Input> inputs,
 // Phase 3: push each car out of the track.
 void resolve_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
     scr.pushes = 0;
+    scr.max_passes = 0;
     scr.capped = 0;
     for (std::size_t i = 0; i < st.cars.size(); ++i) {
         CarState& car = st.cars[i];
@@ -94,9 +96,10 @@ void resolve_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
         const ResolveStats r = resolve(sc.track, sc.grid, sc.broadphase, sc.physics, scr.previous_position[i],
                                        car.position, car.velocity, scr.candidates[i]);
         scr.pushes += r.pushes;
+        scr.max_passes = std::max(scr.max_passes, r.passes);
         scr.capped += r.capped ? 1 : 0;
-        // Fewer pushes than passes: the last pass found nothing touching.
-        scr.clear_valid[i] = r.pushes < sc.physics.resolver_passes ? 1 : 0;
+        // Fewer pushing passes than allowed: the last pass found nothing touching.
+        scr.clear_valid[i] = r.passes < sc.physics.resolver_passes ? 1 : 0;
         scr.clear_at[i] = car.position;
     }
 }

@@ -1,5 +1,7 @@
-// The push-out resolver: passes 1..20 x epsilon (issue 4), in the pit whose
-// corner is a fan of 3 x 48 thin triangles (lab::corner_mesh):
+// The push-out resolver: passes 1..50 x epsilon for the default each-contact
+// passes, and for the seed's first-contact passes at epsilon 0 and 1/1024 m
+// (issue 4), in the pit whose corner is a fan of 3 x 48 thin triangles
+// (lab::corner_mesh):
 //   residual penetration  cars driven into the corner at up to 60 m/s from
 //                         several headings: deepest end-of-step penetration
 //                         and the share of steps ending inside geometry;
@@ -51,17 +53,21 @@ std::vector<ParetoPoint> study_resolver(const StudyOptions& o) {
     const int headings = o.quick ? 3 : 9;
     const PhysicsSettings defaults;
     Csv csv(o.out_dir, "resolver.csv",
-            {"passes", "epsilon_m", "worst_penetration_m", "inside_fraction", "capped_fraction", "jitter_m",
+            {"push_out", "passes", "epsilon_m", "worst_penetration_m", "inside_fraction", "capped_fraction", "jitter_m",
              "mean_pushes", "ns_per_step", "is_default"});
     // Scenes first; then timing rounds over every variant (load from other
     // processes falls on all variants alike); medians reported.
     std::vector<Scene> scenes;
-    for (double eps : eps_list) {
-        for (int p : passes) {
-            PhysicsSettings ps = lab::lab_physics();
-            ps.resolver_passes = p;
-            ps.resolver_epsilon_m = eps;
-            scenes.push_back(lab::make_lab_scene(lab::corner_mesh(), ps));
+    for (PushOut mode : {PushOut::each_contact, PushOut::first_contact}) {
+        for (double eps : eps_list) {
+            if (mode == PushOut::first_contact && eps != 0.0 && eps != defaults.resolver_epsilon_m) continue;
+            for (int p : passes) {
+                PhysicsSettings ps = lab::lab_physics();
+                ps.push_out = mode;
+                ps.resolver_passes = p;
+                ps.resolver_epsilon_m = eps;
+                scenes.push_back(lab::make_lab_scene(lab::corner_mesh(), ps));
+            }
         }
     }
     std::vector<std::vector<double>> ns(scenes.size());
@@ -75,15 +81,16 @@ std::vector<ParetoPoint> study_resolver(const StudyOptions& o) {
         const PhysicsSettings& ps = scenes[k].physics;
         const lab::CornerRun run = lab::drive_into_corners(ps, 60.0, headings, 1.0);
         const Held held = hold_in_corner(scenes[k], 2 * ps.tick_rate_hz);
-        const bool def = ps.resolver_passes == defaults.resolver_passes &&
+        const bool def = ps.push_out == defaults.push_out && ps.resolver_passes == defaults.resolver_passes &&
                          ps.resolver_epsilon_m == defaults.resolver_epsilon_m;
         const double worst = std::max(0.0, run.worst_penetration_m);
-        csv.cell(ps.resolver_passes).cell(ps.resolver_epsilon_m).cell(worst);
+        csv.cell(to_string(ps.push_out)).cell(ps.resolver_passes).cell(ps.resolver_epsilon_m).cell(worst);
         csv.cell(static_cast<double>(run.inside_steps) / run.steps);
         csv.cell(static_cast<double>(run.capped_steps) / run.steps).cell(held.jitter_m).cell(held.mean_pushes);
         csv.cell(median(ns[k])).cell(def).end();
         char name[64];
-        std::snprintf(name, sizeof name, "%d passes, eps %g", ps.resolver_passes, ps.resolver_epsilon_m);
+        std::snprintf(name, sizeof name, "%s, %d passes, eps %g", to_string(ps.push_out), ps.resolver_passes,
+                      ps.resolver_epsilon_m);
         points.push_back({"resolver", name, median(ns[k]), worst, def});
     }
     return points;

@@ -191,6 +191,7 @@ CornerRun drive_into_corners(const PhysicsSettings& ps, double max_speed_mps, in
                 out.inside_uncapped_steps += inside && scratch.capped == 0 ? 1 : 0;
                 out.worst_penetration_m = std::max(out.worst_penetration_m, r - d);
                 out.max_pushes = std::max(out.max_pushes, scratch.pushes);
+                out.max_passes = std::max(out.max_passes, scratch.max_passes);
             }
         }
     }

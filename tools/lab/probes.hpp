@@ -102,6 +102,8 @@ struct CornerRun {
     double worst_penetration_m = 0;
     /// Most push-outs in one step.
     int max_pushes = 0;
+    /// Most pushing passes in one step.
+    int max_passes = 0;
 };
 
 /// Cars driven at full throttle into the pit's corners from many headings

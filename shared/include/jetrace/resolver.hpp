@@ -42,7 +42,10 @@ void find_contacts(const Track& track, const Candidates& cand, const PhysicsSett
                    Contacts& out);
 
 struct ResolveStats {
-    /// Push-outs performed this step.
+    /// Passes that pushed the car this step (the pass after them found it clear,
+    /// unless they reached resolver_passes).
+    int passes = 0;
+    /// Push-outs performed this step (one per pass with PushOut::first_contact).
     int pushes = 0;
     /// First contacts met by the swept test this step (CollisionMode::swept).
     int sweep_hits = 0;
@@ -52,12 +55,15 @@ struct ResolveStats {
 
 /// In CollisionMode::swept, a car that moved more than half its radius since
 /// `previous_position` is first swept along that motion (sweep.hpp). Then
-/// the seed's discrete push-out, made safe: up to resolver_passes times, find
-/// the first candidate triangle the sphere touches or penetrates (distance <=
-/// radius), move the centre to radius + epsilon from its closest point and
-/// remove the velocity into it. With epsilon 0 a pushed-out triangle still
-/// counts as touching and eats every pass (the seed's fall through the
-/// ground). Re-gathers candidates if pushes carry the car out of their reach.
+/// the seed's discrete push-out, made safe: up to resolver_passes passes,
+/// each going through the candidate triangles in ascending order and, for
+/// every one the sphere touches or penetrates (distance <= radius), moving
+/// the centre to radius + epsilon from its closest point and removing the
+/// velocity into it (PushOut::first_contact: only the first per pass). Stops
+/// after a pass that pushed nothing. With epsilon 0 a pushed-out triangle
+/// still counts as touching and eats every pass (the seed's fall through the
+/// ground). Re-gathers candidates if pushes carry the car out of their reach;
+/// the result does not depend on where they were gathered.
 ResolveStats resolve(const Track& track, const UniformGrid& grid, Broadphase bp, const PhysicsSettings& s,
                      const Vec3& previous_position, Vec3& position, Vec3& velocity, Candidates& cand);
 

@@ -33,6 +33,21 @@ enum class CollisionMode : std::uint8_t {
 };
 
 const char* to_string(CollisionMode m);
+
+enum class PushOut : std::uint8_t {
+    /// The seed's resolver: a pass pushes the car out of the first triangle
+    /// it touches (in triangle order) and ends. Where many triangles meet (a
+    /// corner fanned into thin triangles) 20 passes can run out with the car
+    /// still inside; with epsilon 0 one triangle eats every pass.
+    first_contact = 0,
+    /// A pass pushes the car out of every triangle it touches, in triangle
+    /// order, each at the position the previous push left (Gauss-Seidel).
+    /// The default: a corner that needs about 50 first-contact passes needs
+    /// 3 of these (docs/ACCURACY.md).
+    each_contact = 1,
+};
+
+const char* to_string(PushOut p);
 /// Parses "discrete" or "swept". Returns false if unknown.
 bool parse_collision_mode(const std::string& s, CollisionMode& out);
 /// Parses "explicit", "semi-implicit" or "verlet". Returns false if unknown.
@@ -77,6 +92,8 @@ struct PhysicsSettings {
     double no_progress_s = 10.0;
     /// Maximum push-out passes against the track per step (unit: passes).
     int resolver_passes = 20;
+    /// What one pass does (see PushOut).
+    PushOut push_out = PushOut::each_contact;
     /// Extra distance a penetrating car is pushed beyond touching (unit: m).
     double resolver_epsilon_m = 1.0 / 1024.0;
     /// A triangle closer than radius + skin counts as a contact for friction,
@@ -98,7 +115,15 @@ struct PhysicsSettings {
 /// Returns an empty string if the settings are usable, else what is wrong.
 std::string validate(const PhysicsSettings& s);
 
-/// Hash of every field (raw bits): peers and replays must agree on it.
+/// Revision of what step() computes from the same settings and state. Bumped
+/// whenever a change alters any result (the golden hash in
+/// tests/test_determinism.cpp moves with it); part of the fingerprint, so
+/// peers running different cores refuse each other instead of diverging.
+///   1: the first networked core; 2: each-contact push-out passes.
+inline constexpr std::uint32_t kPhysicsRevision = 2;
+
+/// Hash of kPhysicsRevision and every field (raw bits): peers and replays
+/// must agree on it.
 std::uint64_t physics_fingerprint(const PhysicsSettings& s);
 
 /// Quantisation of the simulated state (also the wire format's resolution).

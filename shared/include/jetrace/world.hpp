@@ -53,8 +53,10 @@ struct StepScratch {
     /// a car found there again (at rest) needs no push-out test.
     std::vector<Vec3> clear_at;
     std::vector<std::uint8_t> clear_valid;
-    /// Push-outs and capped resolves in the last step (diagnostics).
+    /// Push-outs, most pushing passes of one car, and capped resolves in the
+    /// last step (diagnostics).
     int pushes = 0;
+    int max_passes = 0;
     int capped = 0;
 };
 
