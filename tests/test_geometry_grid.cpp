@@ -611,12 +611,25 @@ void check_grid_against_brute(const Track& track, const std::vector<Vec3>& centr
             continue;
         }
         // The resolver's path: gather_candidates (sorted, ascending, no duplicates).
-        gather_candidates(grid, Broadphase::grid, c, kQueryRadius, cand);
+        gather_candidates(grid, track, Broadphase::grid, c, kQueryRadius, cand);
         if (!std::is_sorted(cand.triangles.begin(), cand.triangles.end()) ||
             std::adjacent_find(cand.triangles.begin(), cand.triangles.end()) != cand.triangles.end() ||
             !std::includes(cand.triangles.begin(), cand.triangles.end(), brute[qi].begin(), brute[qi].end())) {
             ++failures;
             ADD_FAILURE() << "gather_candidates at " << str(c) << " is unsorted, has duplicates or misses a triangle";
+        }
+        // ... and keeps exactly the triangles whose bounds reach the gathered
+        // region, each with its bounds.
+        std::vector<std::uint32_t> overlapping;
+        const Vec3 slack(kBoxSlack_m, kBoxSlack_m, kBoxSlack_m);
+        const Aabb region{cand.region.min - slack, cand.region.max + slack};
+        for (std::uint32_t t = 0; t < track.triangles.size(); ++t) {
+            if (track.triangles[t].bounds().overlaps(region)) overlapping.push_back(t);
+        }
+        if (cand.triangles != overlapping || cand.boxes.size() != cand.triangles.size()) {
+            ++failures;
+            ADD_FAILURE() << "gather_candidates at " << str(c) << " kept " << cand.triangles.size()
+                          << " triangles; " << overlapping.size() << " have bounds overlapping the region";
         }
         ++report.queries;
         report.nonempty += brute[qi].empty() ? 0 : 1;
@@ -800,7 +813,7 @@ void plane_is_found(const Plane& plane, double L, double cell_size, std::mt19937
             }
         }
         for (Broadphase bp : {Broadphase::grid, Broadphase::brute_force}) {
-            gather_candidates(grid, bp, c, r + ps.contact_skin_m + 0.5, cand);
+            gather_candidates(grid, plane.track, bp, c, r + ps.contact_skin_m + 0.5, cand);
             find_contacts(plane.track, cand, ps, c, contacts);
             bool along_normal = false;
             for (int k = 0; k < contacts.count; ++k) along_normal |= (contacts.normal[k] - plane.normal).norm() < 1e-9;

@@ -9,37 +9,52 @@ namespace jetrace {
 
 bool Candidates::covers(const Vec3& p, double radius_m) const {
     if (all) return true;
-    const Vec3 d = (p - center).cwiseAbs();
-    const double slack = reach_m - radius_m;
-    return d.x() <= slack && d.y() <= slack && d.z() <= slack;
+    return p.x() - radius_m >= region.min.x() && p.x() + radius_m <= region.max.x() &&
+           p.y() - radius_m >= region.min.y() && p.y() + radius_m <= region.max.y() &&
+           p.z() - radius_m >= region.min.z() && p.z() + radius_m <= region.max.z();
 }
 
-void gather_candidates(const UniformGrid& grid, Broadphase bp, const Vec3& center,
+void gather_candidates(const UniformGrid& grid, const Track& track, Broadphase bp, const Vec3& center,
                        double radius_m, Candidates& out) {
-    out.center = center;
-    out.reach_m = radius_m;
+    out.region = Aabb::around(center, radius_m);
+    out.region.min += out.lookahead.cwiseMin(Vec3::Zero());
+    out.region.max += out.lookahead.cwiseMax(Vec3::Zero());
     out.triangles.clear();
+    out.boxes.clear();
     out.all = bp == Broadphase::brute_force;
     if (out.all) return;
-    grid.for_each_candidate(Aabb::around(center, radius_m), [&](std::uint32_t t) { out.triangles.push_back(t); });
+    const Vec3 slack(kBoxSlack_m, kBoxSlack_m, kBoxSlack_m);
+    const Aabb query{out.region.min - slack, out.region.max + slack};
+    grid.for_each_candidate(query, [&](std::uint32_t t) { out.triangles.push_back(t); });
     // Canonical order: ascending triangle index, the brute-force order. The
     // result of a step then does not depend on which cells were visited or
     // on how large the gathered region was, only on the geometry.
     std::sort(out.triangles.begin(), out.triangles.end());
+    // Keep the triangles whose own bounds reach the query (the grid reports
+    // every triangle bucketed in the cells it touches).
+    std::size_t kept = 0;
+    for (const std::uint32_t t : out.triangles) {
+        const Aabb b = track.triangles[t].bounds();
+        if (!b.overlaps(query)) continue;
+        out.triangles[kept++] = t;
+        out.boxes.push_back(b);
+    }
+    out.triangles.resize(kept);
 }
 
 namespace {
 
-// Calls f(triangle) for each candidate in a fixed order.
+// Calls f(triangle, k) for each candidate in a fixed order (k: its place in
+// the candidate list, for Candidates::may_touch); stops when f returns false.
 template <class F>
 void for_each(const Track& track, const Candidates& cand, F&& f) {
     if (cand.all) {
-        for (const Triangle& t : track.triangles) {
-            if (!f(t)) return;
+        for (std::size_t k = 0; k < track.triangles.size(); ++k) {
+            if (!f(track.triangles[k], k)) return;
         }
     } else {
-        for (std::uint32_t i : cand.triangles) {
-            if (!f(track.triangles[i])) return;
+        for (std::size_t k = 0; k < cand.triangles.size(); ++k) {
+            if (!f(track.triangles[cand.triangles[k]], k)) return;
         }
     }
 }
@@ -79,13 +94,17 @@ int sweep_motion(const Track& track, const UniformGrid& grid, Broadphase bp, con
     // Every slide stays within |d| of the start: one gather covers them all
     // and the push-out that follows.
     const double reach = std::sqrt(d.squaredNorm()) + r + s.contact_skin_m + kGatherMargin_m;
-    if (!cand.covers(from, reach)) gather_candidates(grid, bp, from, reach + kGatherMargin_m, cand);
+    if (!cand.covers(from, reach)) gather_candidates(grid, track, bp, from, reach + kGatherMargin_m, cand);
     int hits = 0;
     while (true) {
         SweepHit hit;
         bool found = false;
-        for_each(track, cand, [&](const Triangle& t) {
-            found = sweep_sphere_triangle(p, d, r, t, hit) || found;
+        // Every point of the swept sphere lies within |d|/2 + r of the
+        // motion's midpoint.
+        const Vec3 mid = p + d * 0.5;
+        const double swept_reach = 0.5 * std::sqrt(d.squaredNorm()) + r;
+        for_each(track, cand, [&](const Triangle& t, std::size_t k) {
+            if (cand.may_touch(k, mid, swept_reach)) found = sweep_sphere_triangle(p, d, r, t, hit) || found;
             return true;
         });
         if (!found) {
@@ -112,8 +131,8 @@ void find_contacts(const Track& track, const Candidates& cand, const PhysicsSett
     out.clear();
     const double reach = s.car_radius_m + s.contact_skin_m;
     const double reach2 = reach * reach;
-    for_each(track, cand, [&](const Triangle& t) {
-        if (beyond_plane(t, center, reach)) return true;
+    for_each(track, cand, [&](const Triangle& t, std::size_t k) {
+        if (!cand.may_touch(k, center, reach) || beyond_plane(t, center, reach)) return true;
         const ClosestPoint cp = closest_point_on_triangle(center, t);
         const double d2 = (center - cp.point).squaredNorm();
         if (d2 < reach2) out.add(contact_normal(t, cp, center, std::sqrt(d2), center + t.normal));
@@ -144,9 +163,10 @@ int push_pass(const Track& track, const UniformGrid& grid, Broadphase bp, const 
     std::size_t k = 0;
     while (k < (cand.all ? track.triangles.size() : cand.triangles.size())) {
         const std::uint32_t index = cand.all ? static_cast<std::uint32_t>(k) : cand.triangles[k];
+        const bool near = cand.may_touch(k, position, r);
         ++k;
         const Triangle& t = track.triangles[index];
-        if (beyond_plane(t, position, r)) continue;
+        if (!near || beyond_plane(t, position, r)) continue;
         const ClosestPoint cp = closest_point_on_triangle(position, t);
         const double d2 = (position - cp.point).squaredNorm();
         if (d2 > r2) continue;  // not touching
@@ -156,7 +176,7 @@ int push_pass(const Track& track, const UniformGrid& grid, Broadphase bp, const 
         if (vn < 0.0) velocity -= n * vn;  // inelastic: no velocity into the surface
         ++pushes;
         if (!cand.covers(position, query_radius)) {
-            gather_candidates(grid, bp, position, query_radius + kGatherMargin_m, cand);
+            gather_candidates(grid, track, bp, position, query_radius + kGatherMargin_m, cand);
             if (!cand.all) {
                 k = static_cast<std::size_t>(std::upper_bound(cand.triangles.begin(), cand.triangles.end(), index) -
                                              cand.triangles.begin());
@@ -183,7 +203,7 @@ ResolveStats resolve(const Track& track, const UniformGrid& grid, Broadphase bp,
         stats.sweep_hits = sweep_motion(track, grid, bp, s, previous_position, position, velocity, cand);
     }
     if (!cand.covers(position, query_radius)) {
-        gather_candidates(grid, bp, position, query_radius + kGatherMargin_m, cand);
+        gather_candidates(grid, track, bp, position, query_radius + kGatherMargin_m, cand);
     }
     for (int pass = 0; pass < s.resolver_passes; ++pass) {
         const int pushes = push_pass(track, grid, bp, s, previous_position, position, velocity, cand);
@@ -193,7 +213,8 @@ ResolveStats resolve(const Track& track, const UniformGrid& grid, Broadphase bp,
     }
     if (stats.passes == s.resolver_passes) {
         // Did the last pass leave the car clear?
-        for_each(track, cand, [&](const Triangle& t) {
+        for_each(track, cand, [&](const Triangle& t, std::size_t k) {
+            if (!cand.may_touch(k, position, r)) return true;
             const Vec3 q = closest_point_on_triangle(position, t).point;
             if ((position - q).squaredNorm() < r2) {
                 stats.capped = true;

@@ -65,11 +65,12 @@ void drive_phase(const Scene& sc, WorldState& st, std::span<const Input> inputs,
         } else if (i < inputs.size()) {
             in = inputs[i];
         }
-        const double reach =
-            ps.car_radius_m + ps.contact_skin_m + car.velocity.norm() * ps.dt_s() + kGatherMargin_m;
+        const double travel = car.velocity.norm() * ps.dt_s();
+        const double reach = ps.car_radius_m + ps.contact_skin_m + travel + kGatherMargin_m;
         Candidates& cand = scr.candidates[i];
+        cand.lookahead = car.velocity * (ps.dt_s() * kGatherLookahead_steps);
         if (!cand.covers(car.position, reach - kGatherMargin_m)) {
-            gather_candidates(sc.grid, sc.broadphase, car.position, reach, cand);
+            gather_candidates(sc.grid, sc.track, sc.broadphase, car.position, reach, cand);
         }
         if (!scr.contacts_valid[i] || !same(scr.contacts_at[i], car.position)) {
             find_contacts(sc.track, cand, ps, car.position, scr.contacts[i]);
@@ -116,7 +117,7 @@ void rules_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
         Candidates& cand = scr.candidates[i];
         const double reach = ps.car_radius_m + ps.contact_skin_m;
         if (!cand.covers(car.position, reach)) {
-            gather_candidates(sc.grid, sc.broadphase, car.position, reach + kGatherMargin_m, cand);
+            gather_candidates(sc.grid, sc.track, sc.broadphase, car.position, reach + kGatherMargin_m, cand);
         }
         if (!scr.contacts_valid[i] || !same(scr.contacts_at[i], car.position)) {
             find_contacts(sc.track, cand, ps, car.position, scr.contacts[i]);

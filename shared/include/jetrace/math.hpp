@@ -53,13 +53,16 @@ Vec3 normalized_or(const Vec3& v, const Vec3& fallback, double min_len = 1e-12);
 /// deterministic: scaling by a power of two never rounds.
 inline double quantize(double x, int bits) {
     const double scale = static_cast<double>(std::uint64_t{1} << bits);  // exact power of two
+    // Multiplying by 2^-bits is the same correctly rounded operation as
+    // dividing by 2^bits (both are exact scalings), only cheaper.
+    const double inv_scale = 1.0 / scale;
     const double y = x * scale;
     // Round to nearest, ties to even, without a libm call: adding and
     // subtracting 1.5 * 2^52 leaves no fraction bits (exact for |y| < 2^51;
     // without fast-math the compiler may not fold the pair away).
     constexpr double kMagic = 6755399441055744.0;
-    if (std::fabs(y) < 2251799813685248.0) return ((y + kMagic) - kMagic) / scale;
-    return std::nearbyint(y) / scale;
+    if (std::fabs(y) < 2251799813685248.0) return ((y + kMagic) - kMagic) * inv_scale;
+    return std::nearbyint(y) * inv_scale;
 }
 
 /// q / |q| for a quaternion already within about 1e-3 of unit length (such

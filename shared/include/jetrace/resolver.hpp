@@ -14,27 +14,54 @@ namespace jetrace {
 /// How the resolver finds the triangles near a car.
 enum class Broadphase : std::uint8_t { grid, brute_force };
 
-/// The triangles near a car, gathered once per step and reused by every
-/// push-out pass while the car stays within `reach` of where they were
-/// gathered. The vector is scratch owned by the caller (no allocation once
-/// warm).
+/// Slack added to every bounding-box test of a candidate (unit: m), so that
+/// rounding can never make a box test reject a triangle the exact distance
+/// test would accept. Far below the position quantum (1/1024 m).
+inline constexpr double kBoxSlack_m = 1e-6;
+
+/// The triangles near a car: gathered, then reused by the following steps
+/// and every push-out pass while the car stays inside the gathered region.
+/// Each comes with its bounding box, so the narrow phase skips a far one
+/// with six comparisons. The vectors are scratch owned by the caller (no
+/// allocation once warm).
 struct Candidates {
+    /// Ascending triangle indices whose bounds overlap `region`.
     std::vector<std::uint32_t> triangles;
-    Vec3 center{0, 0, 0};
-    double reach_m = 0;
+    /// Bounds of each, in the same order.
+    std::vector<Aabb> boxes;
+    /// The box they were gathered for.
+    Aabb region;
+    /// Displacement the car will make over the next few steps at its
+    /// current velocity (unit: m; set each step): a gather also covers the
+    /// region ahead, so one gather serves those steps.
+    Vec3 lookahead{0, 0, 0};
     bool all = false;  // brute force: every triangle
 
     /// True if a sphere of `radius_m` at `p` is inside the gathered region.
     bool covers(const Vec3& p, double radius_m) const;
+    /// False if the k-th candidate's box is farther than `reach_m` from `p`
+    /// along an axis: it cannot come within `reach_m` of `p`.
+    bool may_touch(std::size_t k, const Vec3& p, double reach_m) const {
+        if (all) return true;
+        const Aabb& b = boxes[k];
+        const double h = reach_m + kBoxSlack_m;
+        return p.x() + h >= b.min.x() && p.x() - h <= b.max.x() && p.y() + h >= b.min.y() &&
+               p.y() - h <= b.max.y() && p.z() + h >= b.min.z() && p.z() - h <= b.max.z();
+    }
 };
 
-/// Gathers the triangles that may touch a sphere of `radius_m` at `center`
-/// (grid query or all triangles).
 /// Extra reach added around a car when its candidates are gathered, so
 /// they stay valid while small pushes move it (unit: m).
 inline constexpr double kGatherMargin_m = 0.5;
+/// Steps of travel at the car's current speed that a gather looks ahead
+/// (unit: steps); see Candidates::lookahead_m.
+inline constexpr double kGatherLookahead_steps = 12.0;
 
-void gather_candidates(const UniformGrid& grid, Broadphase bp, const Vec3& center,
+/// Gathers the triangles whose bounds overlap the region swept by the cube
+/// of half-edge `radius_m` around `center` moved by out.lookahead (grid
+/// query, then an exact box test), in ascending index order; or marks all
+/// triangles (brute force).
+void gather_candidates(const UniformGrid& grid, const Track& track, Broadphase bp, const Vec3& center,
                        double radius_m, Candidates& out);
 
 /// Contacts within radius + skin of `center` among the candidates.
