@@ -131,7 +131,7 @@ TEST(ConnectToken, EveryTamperedByteIsRefused) {
     auto v = verifier(k.pair.public_key);
     const auto bytes = issue_connect_token(k.pair.secret_key, "alice", kNow + 60, "r");
     for (std::size_t i = 0; i < bytes.size(); ++i) {
-        for (const std::uint8_t flip : {0x01, 0x80}) {
+        for (const std::uint8_t flip : {std::uint8_t{0x01}, std::uint8_t{0x80}}) {
             auto bad = bytes;
             bad[i] ^= flip;
             EXPECT_FALSE(v.check(bad, "alice", kNow).ok()) << "byte " << i << " ^ " << int{flip} << " still admitted";

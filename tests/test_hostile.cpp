@@ -91,13 +91,13 @@ std::vector<Attack> junk_attacks(std::uint64_t seed) {
                  },
                  "malformed message"});
     a.push_back({"truncated hello", [](RawClient& c) {
-                     auto b = bytes_of(jp::Hello{jp::kProtocolVersion, "trunc", {}});
+                     auto b = bytes_of(jp::Hello{jp::kProtocolVersion, "trunc", {}, {}});
                      b.resize(b.size() / 2);
                      c.send(b);
                  },
                  "malformed message"});
     a.push_back({"oversized message", [](RawClient& c) {
-                     auto b = bytes_of(jp::Hello{jp::kProtocolVersion, "big", {}});
+                     auto b = bytes_of(jp::Hello{jp::kProtocolVersion, "big", {}, {}});
                      b.resize(9000, 0);
                      c.send(b);
                  },
@@ -110,7 +110,7 @@ std::vector<Attack> junk_attacks(std::uint64_t seed) {
                  },
                  "malformed message: message: malformed flatbuffer"});
     a.push_back({"root offset out of the buffer", [](RawClient& c) {
-                     auto b = bytes_of(jp::Hello{jp::kProtocolVersion, "offset", {}});
+                     auto b = bytes_of(jp::Hello{jp::kProtocolVersion, "offset", {}, {}});
                      b[0] = 0xF0, b[1] = 0xFF, b[2] = 0xFF, b[3] = 0x7F;
                      c.send(b);
                  },
@@ -152,13 +152,13 @@ std::vector<Attack> junk_attacks(std::uint64_t seed) {
                      c.send(wel);
                  },
                  "protocol violation: clients may not send this message"});
-    a.push_back({"wrong protocol version", [](RawClient& c) { c.send(jp::Hello{0xFFFF, "old", {}}); },
+    a.push_back({"wrong protocol version", [](RawClient& c) { c.send(jp::Hello{0xFFFF, "old", {}, {}}); },
                  "protocol version 65535 not supported"});
     a.push_back({"silence", [](RawClient&) {}, "no hello within"});
     a.push_back({"second hello",
                  [](RawClient& c) {
-                     c.send(jp::Hello{jp::kProtocolVersion, "twice", {}});
-                     c.send(jp::Hello{jp::kProtocolVersion, "twice", {}});
+                     c.send(jp::Hello{jp::kProtocolVersion, "twice", {}, {}});
+                     c.send(jp::Hello{jp::kProtocolVersion, "twice", {}, {}});
                  },
                  "protocol violation: second hello"});
     return a;
@@ -195,7 +195,7 @@ TEST(Hostile, JunkOutOfOrderImpostorAndTooManyPlayersChangeNothing) {
             impostor = &race.add_raw();
         }
         if (impostor != nullptr && impostor->connected && !impostor->welcome && impostor_inputs == 0) {
-            impostor->send(jp::Hello{jp::kProtocolVersion, "bot0", {}});
+            impostor->send(jp::Hello{jp::kProtocolVersion, "bot0", {}, {}});
             impostor_inputs = 1;
         }
         if (impostor != nullptr && impostor->welcome && race.now_us() % 3000 == 0 && impostor->server_tick > 0) {
@@ -208,7 +208,7 @@ TEST(Hostile, JunkOutOfOrderImpostorAndTooManyPlayersChangeNothing) {
         }
         for (RawClient* e : extra) {
             if (e->connected && e->refuse.empty() && e->goodbye.empty() && e->snapshots == 0 && !e->welcome) {
-                e->send(jp::Hello{jp::kProtocolVersion, "extra", {}});
+                e->send(jp::Hello{jp::kProtocolVersion, "extra", {}, {}});
                 e->snapshots = 1;  // sent (reuses the counter as a flag: no snapshots come before a welcome)
             }
         }
@@ -317,7 +317,7 @@ TEST(Hostile, InputsFarInTheFutureOrPastMoveNothing) {
     jetrace::CarState at_go;
     const bool ended = race.run([&] {
         if (cheat.connected && !said_hello) {
-            cheat.send(jp::Hello{jp::kProtocolVersion, "timetraveller", {}});
+            cheat.send(jp::Hello{jp::kProtocolVersion, "timetraveller", {}, {}});
             said_hello = true;
         }
         const auto& world = race.server().world();
