@@ -1,85 +1,196 @@
 #include "jetrace/uniform_grid.hpp"
 
 #include <algorithm>
-#include <cmath>
+#include <bit>
+#include <memory>
+#include <utility>
 
 namespace jetrace {
+namespace {
 
-double UniformGrid::cell_size_for(const Aabb& bounds, double car_radius_m) {
-    const Vec3 ext = (bounds.max - bounds.min).cwiseMax(Vec3(1, 1, 1));
-    const double volume = ext.x() * ext.y() * ext.z();
-    double size = 4.0 * car_radius_m;
-    // Grow until the cell count fits (integer dims, so check the real count).
-    size = std::max(size, std::cbrt(volume / static_cast<double>(kMaxCells)));
+// Extent of `b` along `axis` (unit: m); 0 if negative or not finite.
+double extent(const Aabb& b, int axis) {
+    const double e = b.max[axis] - b.min[axis];
+    return std::isfinite(e) && e > 0.0 ? e : 0.0;
+}
+
+// Cells along an axis of extent `ext` with edge `size`, computed as
+// set_cell_size does (via the reciprocal).
+double axis_cells(double ext, double size) { return std::floor(ext * (1.0 / size)) + 1.0; }
+
+// `size` times the smallest power of 1.0625 that keeps every axis of `b`
+// within kMaxAxisCells. A size that is not positive (no valid radius) starts
+// from the finest edge the key allows.
+double fit_axes(const Aabb& b, double size) {
+    if (!(size > 0.0)) {
+        double widest = 0.0;
+        for (int i = 0; i < 3; ++i) widest = std::max(widest, extent(b, i));
+        size = widest > 0.0 ? widest / UniformGrid::kMaxAxisCells : 1.0;
+    }
     for (;;) {
-        std::int64_t n = 1;
-        for (int i = 0; i < 3; ++i) n *= static_cast<std::int64_t>(std::floor(ext[i] / size)) + 1;
-        if (n <= kMaxCells) return size;
+        bool fits = true;
+        for (int i = 0; i < 3; ++i) fits = fits && axis_cells(extent(b, i), size) <= UniformGrid::kMaxAxisCells;
+        if (fits) return size;
         size *= 1.0625;
     }
 }
 
-std::int32_t UniformGrid::coord(double v, int axis) const {
-    const double c = std::floor((v - origin_[axis]) * inv_cell_);
-    if (!(c >= 0.0)) return 0;  // also catches NaN
-    if (c >= static_cast<double>(dims_[axis] - 1)) return dims_[axis] - 1;
-    return static_cast<std::int32_t>(c);
+// Cells in a range (0 if empty, as for a NaN box).
+double range_cells(const CellRange& r) {
+    double n = 1.0;
+    for (int i = 0; i < 3; ++i) n *= std::max(0, r.hi[i] - r.lo[i] + 1);
+    return n;
 }
 
-bool UniformGrid::cell_range(const Aabb& box, CellRange& out) const {
-    if (cell_start_.empty() || !box.overlaps(bounds_)) return false;
-    for (int i = 0; i < 3; ++i) {
-        out.lo[i] = coord(box.min[i], i);
-        out.hi[i] = coord(box.max[i], i);
+// The occupied cells in ascending key order, with their CSR offsets and
+// items (ascending triangle index within a cell).
+struct SortedCells {
+    std::vector<std::uint64_t> keys;
+    std::vector<std::uint32_t> start;  // keys.size() + 1
+    std::vector<std::uint32_t> items;
+};
+
+// Every (cell key, triangle) pair of the buckets `ranges` (`total` pairs in
+// all), sorted by key then triangle: a counting sort by the key's top bits
+// into about total / 4 buckets (in triangle order), then each bucket sorted.
+// A pair is one 64-bit word: the key's bits below the bucket's, then the
+// triangle's.
+SortedCells sort_cells(const std::vector<CellRange>& ranges, const std::int32_t dims[3], std::size_t total) {
+    const std::size_t n = ranges.size();
+    const auto dx = static_cast<std::uint64_t>(dims[0]);
+    const auto dy = static_cast<std::uint64_t>(dims[1]);
+    const std::uint64_t last_key = dx * dy * static_cast<std::uint64_t>(dims[2]) - 1;
+    const int key_bits = static_cast<int>(std::bit_width(last_key));
+    const int tri_bits = static_cast<int>(std::bit_width(n > 0 ? n - 1 : std::size_t{0}));
+    const int bucket_bits =
+        std::max(std::clamp(static_cast<int>(std::bit_width(total)) - 2, 1, 22), key_bits + tri_bits - 64);
+    const int low_bits = std::max(0, key_bits - bucket_bits);  // <= 64 - tri_bits
+    const std::uint64_t low_mask = (std::uint64_t{1} << low_bits) - 1;
+    const std::uint64_t tri_mask = (std::uint64_t{1} << tri_bits) - 1;
+    const auto for_each_pair = [&](auto&& emit) {
+        for (std::size_t t = 0; t < n; ++t) {
+            const CellRange& r = ranges[t];
+            for (std::int32_t z = r.lo[2]; z <= r.hi[2]; ++z) {
+                for (std::int32_t y = r.lo[1]; y <= r.hi[1]; ++y) {
+                    const std::uint64_t row = (static_cast<std::uint64_t>(z) * dy + static_cast<std::uint64_t>(y)) * dx;
+                    for (std::int32_t x = r.lo[0]; x <= r.hi[0]; ++x) emit(row + static_cast<std::uint64_t>(x), t);
+                }
+            }
+        }
+    };
+    // next[b + 1] counts bucket b; after the prefix sum next[b] is where
+    // bucket b starts, and after the fill where it ends.
+    std::vector<std::uint32_t> next(static_cast<std::size_t>(last_key >> low_bits) + 2, 0);
+    for_each_pair([&](std::uint64_t key, std::size_t) { ++next[(key >> low_bits) + 1]; });
+    for (std::size_t b = 1; b < next.size(); ++b) next[b] += next[b - 1];
+    // Not zero-filled: the fill writes every word.
+    const auto list = std::make_unique_for_overwrite<std::uint64_t[]>(total);
+    for_each_pair([&](std::uint64_t key, std::size_t t) {
+        list[next[key >> low_bits]++] = ((key & low_mask) << tri_bits) | t;
+    });
+    std::size_t occupied = 0;
+    for (std::size_t b = 0, begin = 0; b + 1 < next.size(); begin = next[b++]) {
+        std::sort(list.get() + begin, list.get() + next[b]);
+        for (std::size_t k = begin; k < next[b]; ++k)
+            occupied += (k == begin || (list[k] >> tri_bits) != (list[k - 1] >> tri_bits)) ? 1 : 0;
     }
-    return true;
+    SortedCells out;
+    out.keys.reserve(occupied);
+    out.start.reserve(occupied + 1);
+    out.items.resize(total);
+    for (std::size_t b = 0, begin = 0; b + 1 < next.size(); begin = next[b++]) {
+        for (std::size_t k = begin; k < next[b]; ++k) {
+            if (k == begin || (list[k] >> tri_bits) != (list[k - 1] >> tri_bits)) {
+                out.keys.push_back((static_cast<std::uint64_t>(b) << low_bits) | (list[k] >> tri_bits));
+                out.start.push_back(static_cast<std::uint32_t>(k));
+            }
+            out.items[k] = static_cast<std::uint32_t>(list[k] & tri_mask);
+        }
+    }
+    out.start.push_back(static_cast<std::uint32_t>(total));
+    return out;
+}
+
+}  // namespace
+
+std::int64_t UniformGrid::entry_budget(std::size_t triangles) {
+    // Item offsets are 32-bit, and the empty cell's index must fit too.
+    constexpr std::int64_t kOffsetLimit = (std::int64_t{1} << 32) - 2;
+    const auto capped = static_cast<std::int64_t>(std::min<std::size_t>(triangles, std::size_t{1} << 30));
+    const std::int64_t per_tri = kEntriesPerTriangle * capped;
+    return std::min(kOffsetLimit, std::max(kMinEntryBudget, per_tri));
+}
+
+double UniformGrid::cell_size_for(const Aabb& bounds, double car_radius_m) {
+    return fit_axes(bounds, 4.0 * car_radius_m);
+}
+
+void UniformGrid::set_cell_size(double cell_m) {
+    cell_ = cell_m;
+    inv_cell_ = 1.0 / cell_m;
+    for (int i = 0; i < 3; ++i) dims_[i] = static_cast<std::int32_t>(std::floor(extent(bounds_, i) * inv_cell_)) + 1;
 }
 
 UniformGrid::UniformGrid(const std::vector<Triangle>& triangles, const Aabb& bounds, double car_radius_m,
                          double cell_size_m) {
     bounds_ = bounds;
     origin_ = bounds.min;
-    cell_ = cell_size_m > 0.0 ? cell_size_m : cell_size_for(bounds, car_radius_m);
-    inv_cell_ = 1.0 / cell_;
-    const Vec3 ext = bounds.max - bounds.min;
-    for (int i = 0; i < 3; ++i) dims_[i] = static_cast<std::int32_t>(std::floor(ext[i] * inv_cell_)) + 1;
+    const std::size_t n = triangles.size();
 
-    tri_cells_.resize(triangles.size());
-    const std::int64_t cells = cell_count();
-    std::vector<std::uint32_t> counts(static_cast<std::size_t>(cells) + 1, 0);
-    for (std::size_t t = 0; t < triangles.size(); ++t) {
-        CellRange r;
-        const Aabb b = triangles[t].bounds();
-        for (int i = 0; i < 3; ++i) {
-            r.lo[i] = coord(b.min[i], i);
-            r.hi[i] = coord(b.max[i], i);
+    // Bucket every triangle; grow the edge while the pairs exceed the budget
+    // (by the square root of the excess: a large flat triangle's pairs fall
+    // with the square of the edge).
+    double size = cell_size_m > 0.0 ? fit_axes(bounds, cell_size_m) : cell_size_for(bounds, car_radius_m);
+    const double budget = static_cast<double>(entry_budget(n));
+    std::vector<CellRange> ranges(n);
+    double pairs = 0.0;
+    for (;;) {
+        set_cell_size(size);
+        pairs = 0.0;
+        for (std::size_t t = 0; t < n; ++t) {
+            const Aabb b = triangles[t].bounds();
+            CellRange& r = ranges[t];
+            for (int i = 0; i < 3; ++i) {
+                r.lo[i] = coord(b.min[i], i);
+                r.hi[i] = coord(b.max[i], i);
+            }
+            pairs += range_cells(r);
         }
-        tri_cells_[t] = r;
-        for (std::int32_t z = r.lo[2]; z <= r.hi[2]; ++z)
-            for (std::int32_t y = r.lo[1]; y <= r.hi[1]; ++y)
-                for (std::int32_t x = r.lo[0]; x <= r.hi[0]; ++x) ++counts[static_cast<std::size_t>(index(x, y, z))];
+        if (pairs <= budget) break;
+        size = fit_axes(bounds, size * std::max(1.0625, std::sqrt(pairs / budget)));
     }
-    cell_start_.assign(static_cast<std::size_t>(cells) + 1, 0);
-    std::uint32_t run = 0;
-    for (std::int64_t c = 0; c < cells; ++c) {
-        cell_start_[static_cast<std::size_t>(c)] = run;
-        run += counts[static_cast<std::size_t>(c)];
-    }
-    cell_start_[static_cast<std::size_t>(cells)] = run;
-    items_.resize(run);
-    std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
-    for (std::size_t t = 0; t < triangles.size(); ++t) {
-        const CellRange& r = tri_cells_[t];
-        for (std::int32_t z = r.lo[2]; z <= r.hi[2]; ++z)
-            for (std::int32_t y = r.lo[1]; y <= r.hi[1]; ++y)
-                for (std::int32_t x = r.lo[0]; x <= r.hi[0]; ++x)
-                    items_[fill[static_cast<std::size_t>(index(x, y, z))]++] = static_cast<std::uint32_t>(t);
+
+    tri_lo_.resize(n);
+    for (std::size_t t = 0; t < n; ++t) tri_lo_[t] = CellLo{ranges[t].lo[0], ranges[t].lo[1], ranges[t].lo[2]};
+    SortedCells sorted = sort_cells(ranges, dims_, static_cast<std::size_t>(pairs));
+    std::vector<CellRange>().swap(ranges);
+    items_ = std::move(sorted.items);
+    const std::size_t occupied = sorted.keys.size();
+    cells_.resize(occupied + 1);
+    for (std::size_t c = 0; c < occupied; ++c) cells_[c] = Cell{sorted.keys[c], sorted.start[c], sorted.start[c + 1]};
+    cells_[occupied] = Cell{kNoKey, 0, 0};
+    build_table();
+}
+
+void UniformGrid::build_table() {
+    const std::size_t occupied = cells_.size() - 1;
+    std::size_t capacity = 2;
+    while (capacity < 2 * occupied) capacity *= 2;  // load <= 0.5
+    empty_ = static_cast<std::uint32_t>(occupied);
+    mask_ = capacity - 1;
+    shift_ = 64 - std::countr_zero(capacity);
+    slots_.assign(capacity, empty_);
+    // In ascending key order, so the layout depends on the geometry only.
+    for (std::size_t c = 0; c < occupied; ++c) {
+        std::size_t i = slot_of(cells_[c].key);
+        while (slots_[i] != empty_) i = (i + 1) & mask_;
+        slots_[i] = static_cast<std::uint32_t>(c);
     }
 }
 
 std::size_t UniformGrid::memory_bytes() const {
-    return cell_start_.size() * sizeof(std::uint32_t) + items_.size() * sizeof(std::uint32_t) +
-           tri_cells_.size() * sizeof(CellRange);
+    return slots_.size() * sizeof(std::uint32_t) + cells_.size() * sizeof(Cell) +
+           items_.size() * sizeof(std::uint32_t) + tri_lo_.size() * sizeof(CellLo);
 }
 
 }  // namespace jetrace

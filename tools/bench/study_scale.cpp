@@ -1,6 +1,7 @@
 // How the cost scales (issue 4):
 //   grid_cell.csv   stadium, 8 AI cars: ns per car-step, grid memory and
-//                   build time for each grid cell edge;
+//                   build time for each grid cell edge ("cells": occupied
+//                   cells, the only ones the sparse grid stores);
 //   track_size.csv  1,384 to ~1,000,000 triangles, two ways: the stadium
 //                   with a finer floor ("refined", and "refined_cell5" with
 //                   5 m grid cells) and n x n stadiums side by side

@@ -1,4 +1,4 @@
-// A dense 3D uniform grid over a track's triangles.
+// A sparse 3D uniform grid over a track's triangles.
 //
 // Triangles are bucketed by their bounding box; a query box (the car's) is
 // bucketed by the same function (cell_range). Each candidate is reported
@@ -6,15 +6,45 @@
 // met in cell C is reported only if C is the lowest cell of the overlap of
 // the query's cell range and the triangle's cell range ("owner cell").
 //
-// Cell size rule (see cell_size_for): the edge is the larger of
-//   - 4 car radii (a car's box, 2r + skin wide, then touches at most 8 and
-//     on average about 2 cells), and
-//   - the edge that keeps the cell count at or below kMaxCells
-//     (cube root of bounds volume / kMaxCells).
+// Cells are addressed as in a dense grid over the track's bounds
+// (dims() cells per axis, coordinates clamped to them; the cell key is the
+// dense index x + dims_x * (y + dims_y * z)), but only occupied cells are
+// stored:
+//   cells_  the occupied cells by ascending key: key and CSR range into
+//           items_ (16 bytes), then one empty cell;
+//   items_  triangle indices, ascending within a cell;
+//   slots_  an open-addressing hash table (linear probing, power-of-two
+//           capacity, load <= 0.5) from key to index in cells_.
+// A lookup is one hash, one slot and one cell (a second probe is rare);
+// empty cells are not stored, their lookups end on an empty slot, which
+// names the empty cell. Everything is built from the (key, triangle) pairs
+// sorted by (key, triangle), and the table is filled in ascending key order
+// with a fixed hash, so the layout is a pure function of the geometry
+// (nothing depends on allocation addresses or insertion history). Memory:
+// 4 bytes per triangle-cell pair, at most 32 bytes per occupied cell and
+// 12 bytes per triangle (see memory_bytes), independent of the bounding
+// volume.
+//
+// Cell size rule (see cell_size_for): the edge is 4 car radii (10 m for
+// r = 2.5 m: a car's box, 2r + skin wide, then touches at most 8 and on
+// average about 2 cells), whatever the track's extent. Only two limits can
+// make it larger:
+//   - the key: each axis holds at most kMaxAxisCells = 2^21 cells (so the
+//     key fits 63 bits); a track within kMaxTrackCoordinate_m (1e6 m) needs
+//     2e5 cells per axis at 10 m, so this only grows a tiny explicit size or
+//     radius (the edge is then multiplied by 1.0625 until every axis fits);
+//   - the pair budget: if the triangle-cell pairs would exceed
+//     entry_budget(triangles) (32 per triangle on average, or 2^22 in all,
+//     whichever is larger), the constructor grows the edge until they fit.
+//     Normal tracks are far below it (the stadium: 20 per triangle); it
+//     guards against a few huge triangles (a 2,000 km ground quad would be
+//     4e10 cells at 10 m).
 #pragma once
 
 #include "jetrace/geometry.hpp"
 
+#include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -27,41 +57,55 @@ struct CellRange {
 
 class UniformGrid {
 public:
-    /// Upper bound on the number of cells (memory: 4 bytes per cell plus
-    /// 4 bytes per triangle-cell pair).
-    static constexpr std::int64_t kMaxCells = std::int64_t{1} << 21;
+    /// Most cells per axis (so the key, the dense index, stays below 2^63).
+    static constexpr std::int32_t kMaxAxisCells = std::int32_t{1} << 21;
+    /// The pair budget: at least this many triangle-cell pairs in all...
+    static constexpr std::int64_t kMinEntryBudget = std::int64_t{1} << 22;
+    /// ...or this many per triangle on average, whichever is larger.
+    static constexpr std::int64_t kEntriesPerTriangle = 32;
+    static std::int64_t entry_budget(std::size_t triangles);
 
-    /// The documented rule for the cell edge (unit: m).
+    /// The documented rule for the cell edge (unit: m): 4 car radii, grown
+    /// only if an axis of `bounds` would exceed kMaxAxisCells.
     static double cell_size_for(const Aabb& bounds, double car_radius_m);
 
     UniformGrid() = default;
-    /// Builds over `triangles` with `cell_size_m` (0 = cell_size_for).
+    /// Builds over `triangles` with `cell_size_m` (0 = cell_size_for). An
+    /// explicit size is grown like the rule's if an axis would exceed
+    /// kMaxAxisCells; either is grown if the pairs would exceed the budget.
     UniformGrid(const std::vector<Triangle>& triangles, const Aabb& bounds, double car_radius_m,
                 double cell_size_m = 0.0);
 
-    /// The cells a box covers (clamped to the grid). Returns false if the box
-    /// misses the grid entirely.
-    bool cell_range(const Aabb& box, CellRange& out) const;
+    /// The cells a box covers (clamped to the grid; NaN counts as the lowest
+    /// cell). Returns false if the box misses the grid's bounds entirely.
+    bool cell_range(const Aabb& box, CellRange& out) const {
+        if (slots_.empty() || !box.overlaps(bounds_)) return false;
+        for (int i = 0; i < 3; ++i) {
+            out.lo[i] = coord(box.min[i], i);
+            out.hi[i] = coord(box.max[i], i);
+        }
+        return true;
+    }
 
     /// Calls f(triangle_index) once for every triangle whose bucket overlaps
-    /// `box`, in ascending cell order (x fastest, then y, then z).
+    /// `box`'s cell range, in ascending cell order (x fastest, then y, then
+    /// z), ascending triangle index within a cell.
     template <class F>
     void for_each_candidate(const Aabb& box, F&& f) const {
         CellRange q;
         if (!cell_range(box, q)) return;
         for (std::int32_t z = q.lo[2]; z <= q.hi[2]; ++z) {
             for (std::int32_t y = q.lo[1]; y <= q.hi[1]; ++y) {
+                const std::uint64_t row = (u64(z) * u64(dims_[1]) + u64(y)) * u64(dims_[0]);
                 for (std::int32_t x = q.lo[0]; x <= q.hi[0]; ++x) {
-                    const std::int64_t cell = index(x, y, z);
-                    const std::uint32_t begin = cell_start_[cell];
-                    const std::uint32_t end = cell_start_[cell + 1];
-                    for (std::uint32_t k = begin; k < end; ++k) {
+                    const Cell& cell = cells_[find(row + u64(x))];
+                    for (std::uint32_t k = cell.begin; k < cell.end; ++k) {
                         const std::uint32_t tri = items_[k];
-                        const CellRange& r = tri_cells_[tri];
+                        const CellLo& r = tri_lo_[tri];
                         // Owner cell: lowest cell of the two ranges' overlap.
-                        const std::int32_t ox = r.lo[0] > q.lo[0] ? r.lo[0] : q.lo[0];
-                        const std::int32_t oy = r.lo[1] > q.lo[1] ? r.lo[1] : q.lo[1];
-                        const std::int32_t oz = r.lo[2] > q.lo[2] ? r.lo[2] : q.lo[2];
+                        const std::int32_t ox = r.x > q.lo[0] ? r.x : q.lo[0];
+                        const std::int32_t oy = r.y > q.lo[1] ? r.y : q.lo[1];
+                        const std::int32_t oz = r.z > q.lo[2] ? r.z : q.lo[2];
                         if (ox == x && oy == y && oz == z) f(tri);
                     }
                 }
@@ -70,26 +114,63 @@ public:
     }
 
     double cell_size_m() const { return cell_; }
-    std::int64_t cell_count() const { return std::int64_t{dims_[0]} * dims_[1] * dims_[2]; }
+    /// Occupied cells (cells holding at least one triangle); empty cells
+    /// take no memory.
+    std::int64_t cell_count() const { return static_cast<std::int64_t>(empty_); }
+    /// Triangle-cell pairs.
     std::size_t entry_count() const { return items_.size(); }
     /// Bytes held by the grid's arrays.
     std::size_t memory_bytes() const;
+    /// Cells per axis of the (virtual) dense grid over the bounds.
     const std::int32_t* dims() const { return dims_; }
 
 private:
-    std::int64_t index(std::int32_t x, std::int32_t y, std::int32_t z) const {
-        return (std::int64_t{z} * dims_[1] + y) * dims_[0] + x;
+    struct Cell {
+        std::uint64_t key;    // dense index; kNoKey for the empty cell
+        std::uint32_t begin;  // its triangles: items_[begin, end)
+        std::uint32_t end;
+    };
+    static constexpr std::uint64_t kNoKey = ~std::uint64_t{0};  // above any dense index (< 2^63)
+    struct CellLo {
+        std::int32_t x, y, z;
+    };
+
+    static std::uint64_t u64(std::int32_t v) { return static_cast<std::uint64_t>(v); }
+    // Fixed 64-bit mix (xor-shift, multiply: the murmur3 finaliser's first
+    // round); the product's top bits depend on every key bit.
+    std::size_t slot_of(std::uint64_t key) const {
+        key ^= key >> 33;
+        key *= 0xff51afd7ed558ccdull;
+        return static_cast<std::size_t>(key >> shift_);
     }
-    std::int32_t coord(double v, int axis) const;
+    // The occupied-cell index of `key`, or empty_ (the empty cell).
+    std::uint32_t find(std::uint64_t key) const {
+        for (std::size_t i = slot_of(key);; i = (i + 1) & mask_) {
+            const std::uint32_t c = slots_[i];
+            if (cells_[c].key == key || c == empty_) return c;
+        }
+    }
+    std::int32_t coord(double v, int axis) const {
+        const double c = std::floor((v - origin_[axis]) * inv_cell_);
+        if (!(c >= 0.0)) return 0;  // also catches NaN
+        if (c >= static_cast<double>(dims_[axis] - 1)) return dims_[axis] - 1;
+        return static_cast<std::int32_t>(c);
+    }
+    void set_cell_size(double cell_m);
+    void build_table();
 
     Vec3 origin_{0, 0, 0};
     double cell_ = 1.0;
     double inv_cell_ = 1.0;
     std::int32_t dims_[3] = {1, 1, 1};
     Aabb bounds_;
-    std::vector<std::uint32_t> cell_start_;  // CSR offsets, cell_count()+1
-    std::vector<std::uint32_t> items_;       // triangle indices, ascending per cell
-    std::vector<CellRange> tri_cells_;       // each triangle's bucket range
+    int shift_ = 63;                      // 64 - log2(slots_.size())
+    std::size_t mask_ = 0;                // slots_.size() - 1
+    std::uint32_t empty_ = 0;             // = cell_count(): what an empty slot holds
+    std::vector<std::uint32_t> slots_;    // hash table: index into cells_, or empty_
+    std::vector<Cell> cells_;             // occupied cells by ascending key, then the empty cell
+    std::vector<std::uint32_t> items_;    // triangle indices, ascending per cell
+    std::vector<CellLo> tri_lo_;          // each triangle's lowest bucket cell
 };
 
 }  // namespace jetrace
