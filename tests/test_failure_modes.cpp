@@ -91,7 +91,7 @@ TEST(FailureModes, ExplicitEulerSpringGainsEnergySemiImplicitBounded) {
 //
 // The failing case is a landing: dropping 0.3 m at 10 m/s onto the same
 // floor at 30 degrees, the car penetrates; the resolver pushes out of the
-// first touching triangle in index order, and when that one's closest point
+// touching triangles in index order, and when the first one's closest point
 // is on an edge the push is tilted (a ghost edge) and takes speed: 0.23 m/s
 // of 98 m/s here, 0.2 %. On the two-triangle floor the same landing loses
 // nothing, and sliding on never loses anything.
