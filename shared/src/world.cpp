@@ -68,7 +68,9 @@ void drive_phase(const Scene& sc, WorldState& st, std::span<const Input> inputs,
         const double travel = car.velocity.norm() * ps.dt_s();
         const double reach = ps.car_radius_m + ps.contact_skin_m + travel + kGatherMargin_m;
         Candidates& cand = scr.candidates[i];
+        const double ahead = travel * kGatherLookahead_steps;
         cand.lookahead = car.velocity * (ps.dt_s() * kGatherLookahead_steps);
+        if (ahead > kGatherLookaheadMax_m) cand.lookahead *= kGatherLookaheadMax_m / ahead;
         if (!cand.covers(car.position, reach - kGatherMargin_m)) {
             gather_candidates(sc.grid, sc.track, sc.broadphase, car.position, reach, cand);
         }

@@ -54,8 +54,12 @@ struct Candidates {
 /// they stay valid while small pushes move it (unit: m).
 inline constexpr double kGatherMargin_m = 0.5;
 /// Steps of travel at the car's current speed that a gather looks ahead
-/// (unit: steps); see Candidates::lookahead_m.
+/// (unit: steps); see Candidates::lookahead. Other values are compared in
+/// docs/ACCURACY.md ("Side by side with Bullet").
 inline constexpr double kGatherLookahead_steps = 12.0;
+/// Longest look-ahead (unit: m), so that a car far above the top speed
+/// (365 m/s: 36 m in 12 steps) does not gather a long corridor.
+inline constexpr double kGatherLookaheadMax_m = 50.0;
 
 /// Gathers the triangles whose bounds overlap the region swept by the cube
 /// of half-edge `radius_m` around `center` moved by out.lookahead (grid
