@@ -142,28 +142,38 @@ double bullet_run(BulletScene& b, const PhysicsSettings& ps, const Straight& s, 
     return timer.ns() / frames;
 }
 
-// Largest |height - start height| of each system over `frames` steps
-// (untimed): bumps at the floor's seams.
-std::pair<double, double> height_excursions(const Scene& sc, BulletScene& b, const Straight& s, int frames) {
+// Height above the start of each system over `frames` steps (untimed):
+// bumps at the floor's seams.
+struct Excursions {
+    double ours_max_m = 0, theirs_max_m = 0;
+    /// Share of steps Bullet's sphere ended more than 1 cm above where it
+    /// settled (off the floor: nothing to collide with).
+    double theirs_airborne_fraction = 0;
+};
+
+Excursions height_excursions(const Scene& sc, BulletScene& b, const Straight& s, int frames) {
     const PhysicsSettings& ps = sc.physics;
     WorldState st = lab::one_car(s.start, s.forward, s.velocity);
     StepScratch scratch;
     const double y0 = st.cars[0].position.y();
-    double ours = 0, theirs = 0;
+    Excursions e;
     for (int i = 0; i < frames; ++i) {
         step(sc, st, {&s.input, 1}, scratch);
-        ours = std::max(ours, std::abs(st.cars[0].position.y() - y0));
+        e.ours_max_m = std::max(e.ours_max_m, std::abs(st.cars[0].position.y() - y0));
     }
     // Bullet rests its sphere on the mesh's collision margin: start from where it settles.
     b.place(s.start, s.velocity, false, ps.car_radius_m);
     const Vec3 force = s.forward * (ps.thrust_mps2 * s.input.throttle / Input::kMaxThrottle);
     b.step(ps.dt_s(), force);
     const double by0 = b.y();
+    int airborne = 0;
     for (int i = 1; i < frames; ++i) {
         b.step(ps.dt_s(), force);
-        theirs = std::max(theirs, std::abs(b.y() - by0));
+        e.theirs_max_m = std::max(e.theirs_max_m, std::abs(b.y() - by0));
+        airborne += b.y() - by0 > 0.01 ? 1 : 0;
     }
-    return {ours, theirs};
+    e.theirs_airborne_fraction = frames > 1 ? static_cast<double>(airborne) / (frames - 1) : 0.0;
+    return e;
 }
 
 void print(nlohmann::json& j, const std::vector<double>& ours, const std::vector<double>& theirs) {
@@ -193,12 +203,15 @@ void straight_scenario(const char* name, const Straight& s, const BulletOptions&
     j["frames"] = o.frames;
     j["repeats"] = o.repeats;
     j["triangles"] = sc.track.triangles.size();
-    const auto [ours_dy, theirs_dy] = height_excursions(sc, b, s, o.frames);
-    j["jetrace_max_height_change_m"] = ours_dy;
-    j["bullet_max_height_change_m"] = theirs_dy;
+    const Excursions ex = height_excursions(sc, b, s, o.frames);
+    j["jetrace_max_height_change_m"] = ex.ours_max_m;
+    j["bullet_max_height_change_m"] = ex.theirs_max_m;
+    j["bullet_airborne_fraction"] = ex.theirs_airborne_fraction;
     {
         BulletScene fixed(sc.track, ps.car_radius_m, ps.gravity_mps2, true);
-        j["bullet_internal_edges_max_height_change_m"] = height_excursions(sc, fixed, s, o.frames).second;
+        const Excursions fixed_ex = height_excursions(sc, fixed, s, o.frames);
+        j["bullet_internal_edges_max_height_change_m"] = fixed_ex.theirs_max_m;
+        j["bullet_internal_edges_airborne_fraction"] = fixed_ex.theirs_airborne_fraction;
         std::vector<double> fixed_ns;
         for (int r = 0; r < o.repeats; ++r) fixed_ns.push_back(bullet_run(fixed, ps, s, o.frames));
         j["bullet_internal_edges_ns_per_step"] = median(fixed_ns);
