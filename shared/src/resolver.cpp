@@ -91,9 +91,10 @@ int sweep_motion(const Track& track, const UniformGrid& grid, Broadphase bp, con
     const double r = s.car_radius_m;
     Vec3 p = from;
     Vec3 d = position - from;
-    // Every slide stays within |d| of the start: one gather covers them all
-    // and the push-out that follows.
-    const double reach = std::sqrt(d.squaredNorm()) + r + s.contact_skin_m + kGatherMargin_m;
+    // Every slide stays within |d| of the start, plus epsilon per contact:
+    // one gather covers them all and the push-out that follows.
+    const double reach = std::sqrt(d.squaredNorm()) + s.sweep_contacts * s.resolver_epsilon_m + r +
+                         s.contact_skin_m + kGatherMargin_m;
     if (!cand.covers(from, reach)) gather_candidates(grid, track, bp, from, reach + kGatherMargin_m, cand);
     int hits = 0;
     while (true) {
@@ -195,7 +196,7 @@ ResolveStats resolve(const Track& track, const UniformGrid& grid, Broadphase bp,
     const double r = s.car_radius_m;
     const double r2 = r * r;
     const double query_radius = r + s.contact_skin_m;
-    if (s.collision_mode == CollisionMode::swept && (position - previous_position).squaredNorm() > 0.25 * r2) {
+    if (needs_sweep(s, previous_position, position)) {
         // Moving more than half the radius: the push-out alone could be
         // fooled by a thin wall (docs/ACCURACY.md). Slower, it cannot: a
         // sphere that started clear ends at least r/2 from every triangle

@@ -94,8 +94,13 @@ void resolve_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
         CarState& car = st.cars[i];
         if (!car.active) continue;
         // Exact shortcut: the resolver already found this very position
-        // clear of every triangle, and only the position decides that.
-        if (scr.clear_valid[i] && same(scr.clear_at[i], car.position)) continue;
+        // clear of every triangle, and only the position decides that (if
+        // the step's motion needs no sweep, which also depends on where the
+        // car came from).
+        if (scr.clear_valid[i] && same(scr.clear_at[i], car.position) &&
+            !needs_sweep(sc.physics, scr.previous_position[i], car.position)) {
+            continue;
+        }
         const ResolveStats r = resolve(sc.track, sc.grid, sc.broadphase, sc.physics, scr.previous_position[i],
                                        car.position, car.velocity, scr.candidates[i]);
         scr.pushes += r.pushes;

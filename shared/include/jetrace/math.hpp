@@ -53,8 +53,8 @@ Vec3 normalized_or(const Vec3& v, const Vec3& fallback, double min_len = 1e-12);
 /// deterministic: scaling by a power of two never rounds.
 inline double quantize(double x, int bits) {
     const double scale = static_cast<double>(std::uint64_t{1} << bits);  // exact power of two
-    // Multiplying by 2^-bits is the same correctly rounded operation as
-    // dividing by 2^bits (both are exact scalings), only cheaper.
+    // Multiplying by 2^-bits gives the same correctly rounded value as
+    // dividing by 2^bits (both round the same exact quotient), only cheaper.
     const double inv_scale = 1.0 / scale;
     const double y = x * scale;
     // Round to nearest, ties to even, without a libm call: adding and

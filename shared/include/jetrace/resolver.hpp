@@ -61,16 +61,23 @@ inline constexpr double kGatherLookahead_steps = 12.0;
 /// (365 m/s: 36 m in 12 steps) does not gather a long corridor.
 inline constexpr double kGatherLookaheadMax_m = 50.0;
 
-/// Gathers the triangles whose bounds overlap the region swept by the cube
-/// of half-edge `radius_m` around `center` moved by out.lookahead (grid
-/// query, then an exact box test), in ascending index order; or marks all
-/// triangles (brute force).
+/// Gathers the triangles whose bounds overlap the box around the cube of
+/// half-edge `radius_m` at `center` and the same cube moved by
+/// out.lookahead (grid query, then an exact box test), in ascending index
+/// order; or marks all triangles (brute force).
 void gather_candidates(const UniformGrid& grid, const Track& track, Broadphase bp, const Vec3& center,
                        double radius_m, Candidates& out);
 
 /// Contacts within radius + skin of `center` among the candidates.
 void find_contacts(const Track& track, const Candidates& cand, const PhysicsSettings& s, const Vec3& center,
                    Contacts& out);
+
+/// True if resolve() sweeps a car that moved from `from` to `to`: in
+/// CollisionMode::swept, a motion of more than half the radius.
+inline bool needs_sweep(const PhysicsSettings& s, const Vec3& from, const Vec3& to) {
+    const double half_r = 0.5 * s.car_radius_m;
+    return s.collision_mode == CollisionMode::swept && (to - from).squaredNorm() > half_r * half_r;
+}
 
 struct ResolveStats {
     /// Passes that pushed the car this step (the pass after them found it clear,

@@ -90,25 +90,31 @@ public:
     /// Calls f(triangle_index) once for every triangle whose bucket overlaps
     /// `box`'s cell range, in ascending cell order (x fastest, then y, then
     /// z), ascending triangle index within a cell.
+    ///
+    /// A box covering more cells than are occupied (a huge reach, e.g. from
+    /// an absurd velocity) walks the occupied cells instead, in the same
+    /// (key) order: the cost is bounded by the grid's size, never by the box.
     template <class F>
     void for_each_candidate(const Aabb& box, F&& f) const {
         CellRange q;
         if (!cell_range(box, q)) return;
+        const std::uint64_t span = u64(q.hi[0] - q.lo[0] + 1) * u64(q.hi[1] - q.lo[1] + 1) * u64(q.hi[2] - q.lo[2] + 1);
+        if (span > u64(empty_)) {
+            const std::uint64_t dx = u64(dims_[0]), dy = u64(dims_[1]);
+            for (std::uint32_t c = 0; c < empty_; ++c) {
+                const std::uint64_t key = cells_[c].key;
+                const auto x = static_cast<std::int32_t>(key % dx);
+                const auto y = static_cast<std::int32_t>((key / dx) % dy);
+                const auto z = static_cast<std::int32_t>(key / dx / dy);
+                if (x < q.lo[0] || x > q.hi[0] || y < q.lo[1] || y > q.hi[1] || z < q.lo[2] || z > q.hi[2]) continue;
+                visit_cell(cells_[c], q, x, y, z, f);
+            }
+            return;
+        }
         for (std::int32_t z = q.lo[2]; z <= q.hi[2]; ++z) {
             for (std::int32_t y = q.lo[1]; y <= q.hi[1]; ++y) {
                 const std::uint64_t row = (u64(z) * u64(dims_[1]) + u64(y)) * u64(dims_[0]);
-                for (std::int32_t x = q.lo[0]; x <= q.hi[0]; ++x) {
-                    const Cell& cell = cells_[find(row + u64(x))];
-                    for (std::uint32_t k = cell.begin; k < cell.end; ++k) {
-                        const std::uint32_t tri = items_[k];
-                        const CellLo& r = tri_lo_[tri];
-                        // Owner cell: lowest cell of the two ranges' overlap.
-                        const std::int32_t ox = r.x > q.lo[0] ? r.x : q.lo[0];
-                        const std::int32_t oy = r.y > q.lo[1] ? r.y : q.lo[1];
-                        const std::int32_t oz = r.z > q.lo[2] ? r.z : q.lo[2];
-                        if (ox == x && oy == y && oz == z) f(tri);
-                    }
-                }
+                for (std::int32_t x = q.lo[0]; x <= q.hi[0]; ++x) visit_cell(cells_[find(row + u64(x))], q, x, y, z, f);
             }
         }
     }
@@ -148,6 +154,21 @@ private:
         for (std::size_t i = slot_of(key);; i = (i + 1) & mask_) {
             const std::uint32_t c = slots_[i];
             if (cells_[c].key == key || c == empty_) return c;
+        }
+    }
+    // Reports the triangles of cell (x, y, z) whose owner cell, for query
+    // range q, is this one.
+    template <class F>
+    void visit_cell(const Cell& cell, const CellRange& q, std::int32_t x, std::int32_t y, std::int32_t z,
+                    F& f) const {
+        for (std::uint32_t k = cell.begin; k < cell.end; ++k) {
+            const std::uint32_t tri = items_[k];
+            const CellLo& r = tri_lo_[tri];
+            // Owner cell: lowest cell of the two ranges' overlap.
+            const std::int32_t ox = r.x > q.lo[0] ? r.x : q.lo[0];
+            const std::int32_t oy = r.y > q.lo[1] ? r.y : q.lo[1];
+            const std::int32_t oz = r.z > q.lo[2] ? r.z : q.lo[2];
+            if (ox == x && oy == y && oz == z) f(tri);
         }
     }
     std::int32_t coord(double v, int axis) const {
