@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
     std::string log_level = "info";
     int tick_rate = 120;
     double time_scale = 1.0;
+    double hello_timeout_s = 5.0;
     std::string key_file;
     app.add_option("--port", net_cfg.port, "UDP port (0: any free port, printed at start)");
     app.add_option("--bind", net_cfg.bind, "address to bind");
@@ -49,6 +50,9 @@ int main(int argc, char** argv) {
     app.add_option("--reconnect-grace", cfg.reconnect_grace_s,
                    "how long a dropped player's slot and car wait for its reconnect (s; 0: none)")
         ->check(CLI::Range(0.0, 3600.0));
+    app.add_option("--hello-timeout", hello_timeout_s,
+                   "drop a connection that has not said Hello after this long (s of real time, whatever --time-scale)")
+        ->check(CLI::Range(0.1, 600.0));
     app.add_option("--key-file", key_file,
                    "private race: admit only connect tokens signed with this key (jetrace-token keygen's FILE.pub)");
     app.add_option("--race-id", cfg.race_id, "private race: connect tokens must name this race (default: none)");
@@ -59,6 +63,12 @@ int main(int argc, char** argv) {
     app.add_option("--time-scale", time_scale, "run the clock this many times faster than real time (tests)")
         ->check(CLI::Range(0.01, 100.0));
     CLI11_PARSE(app, argc, argv);
+    // The hello timeout waits on the network, whose retransmissions (ENet's)
+    // run in real time: on the server's scaled clock it is that many times
+    // longer. Unscaled, a Hello retransmitted once by a client at --time-scale
+    // 4 could miss it (1.25 s of real time) and the race would wait forever
+    // for that player.
+    cfg.hello_timeout_s = hello_timeout_s * time_scale;
     spdlog::set_level(spdlog::level::from_str(log_level));
     spdlog::set_pattern("[%H:%M:%S.%e] [server] [%l] %v");
 

@@ -23,6 +23,8 @@
 #   JETRACE_SOAK_SAMPLE_S (1)    RSS sampling period
 #   JETRACE_SOAK_LOG_LEVEL (warn) of the server, the proxy and the bots
 #   JETRACE_SOAK_MAX_GROWTH_KIB (1024)
+#   JETRACE_SOAK_DEADLINE_S (0: none) give up after this many wall-clock
+#                                seconds, printing what the server and bots logged
 #   JETRACE_BUILD_DIR (build), JETRACE_SOAK_OUT (a temporary directory, removed)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -41,7 +43,8 @@ scale="${JETRACE_SOAK_TIME_SCALE:-1}"
 sample_s="${JETRACE_SOAK_SAMPLE_S:-1}"
 log_level="${JETRACE_SOAK_LOG_LEVEL:-warn}"
 max_growth_kib="${JETRACE_SOAK_MAX_GROWTH_KIB:-1024}"
-for v in seconds races bots per_process max_growth_kib; do
+deadline_s="${JETRACE_SOAK_DEADLINE_S:-0}"
+for v in seconds races bots per_process max_growth_kib deadline_s; do
   [[ "${!v}" =~ ^[0-9]+$ ]] || { echo "soak: $v must be a whole number, got '${!v}'" >&2; exit 2; }
 done
 [ "$bots" -ge 1 ] && [ "$bots" -le 64 ] || { echo "soak: JETRACE_SOAK_BOTS must be in 1..64" >&2; exit 2; }
@@ -58,6 +61,20 @@ pids=()
 cleanup() {
   for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
   [ "$keep" = 1 ] || rm -rf "$out"
+}
+# What went wrong, from the logs: the server's last lines, the bots' warnings
+# and errors, and the proxy's counters.
+show_logs() {
+  echo "soak: server log (last 40 lines):"; tail -n 40 "$out/server.log" | sed 's/^/  /'
+  for f in "$out"/bots*.log; do
+    echo "soak: $(basename "$f") warnings and errors (last 20):"
+    { grep -E '\[(warning|error|critical)\]' "$f" || true; } | tail -n 20 | sed 's/^/  /'
+  done
+  echo "soak: netsim log (last 5 lines):"; tail -n 5 "$out/netsim.log" | sed 's/^/  /'
+  for f in "$out"/bots*.json; do
+    [ -s "$f" ] && { echo "soak: $(basename "$f"):"; sed 's/^/  /' "$f"; }
+  done
+  return 0
 }
 trap cleanup EXIT
 
@@ -112,6 +129,11 @@ while kill -0 "$server_pid" 2>/dev/null; do
       kill -TERM "$server_pid"; stop_sent=1; evaluated="$seen"
     fi
   fi
+  if [ "$deadline_s" -gt 0 ] && awk -v e="$(elapsed)" -v d="$deadline_s" 'BEGIN { exit !(e >= d) }'; then
+    echo "soak: no result after ${deadline_s} s (JETRACE_SOAK_DEADLINE_S): $seen race(s) finished"
+    show_logs
+    exit 1
+  fi
   sleep "$sample_s"
 done
 server_rc=0
@@ -128,7 +150,7 @@ wait "$netsim_pid" || netsim_rc=$?
 [ "$server_rc" = 0 ] || { echo "soak: jetrace-server exited with $server_rc"; crash=1; }
 evaluated="${evaluated:-$seen}"  # the server stopped before it was told: evaluate what it finished
 
-python3 - "$out" "$bots" "$evaluated" "$max_growth_kib" "${race_end_rss[*]:-}" "$crash" <<'PY'
+if python3 - "$out" "$bots" "$evaluated" "$max_growth_kib" "${race_end_rss[*]:-}" "$crash" <<'PY'
 import json, re, sys
 out, bots, evaluated, max_growth, rss_at_ends, crash = sys.argv[1:7]
 bots, evaluated, max_growth, crash = int(bots), int(evaluated), int(max_growth), int(crash)
@@ -172,3 +194,4 @@ if growth is not None and growth >= max_growth:
     print(f"soak: server memory grew by {growth} KiB after the first race (limit {max_growth} KiB)"); ok = False
 sys.exit(0 if ok else 1)
 PY
+then :; else rc=$?; show_logs; exit "$rc"; fi

@@ -47,7 +47,9 @@ struct ServerConfig {
     double max_race_s = 1200.0;
     /// Inputs further ahead of the server tick are dropped (unit: ticks).
     int max_input_lead_ticks = 240;
-    /// A connection that has not said Hello by then is dropped (unit: s).
+    /// A connection that has not said Hello by then is dropped (unit: s of
+    /// the caller's clock; jetrace-server scales its --hello-timeout, given
+    /// in real time, by --time-scale).
     double hello_timeout_s = 5.0;
     /// Results JSON written atomically at each race's end ("" = none).
     std::string results_path;
