@@ -17,6 +17,8 @@ Triangle Triangle::make(const Vec3& a, const Vec3& b, const Vec3& c) {
     } else {
         t.normal = n / std::sqrt(len2);
         t.thin = len2 < 1e-6 * scale * scale;
+        const Vec3 edge[3] = {b - a, c - b, a - c};
+        for (int i = 0; i < 3; ++i) t.inward[i] = t.normal.cross(edge[i]) / std::sqrt(edge[i].squaredNorm());
     }
     return t;
 }
@@ -59,22 +61,50 @@ ClosestPoint closest_on_edges(const Vec3& p, const Triangle& t) {
     return r;
 }
 
-// Slivers: project onto the plane; inside all three edges -> face, else the
-// nearest edge. Every quantity is a well-conditioned dot or cross product.
-ClosestPoint closest_on_thin(const Vec3& p, const Triangle& t) {
-    const Vec3 q = p - t.normal * (p - t.a).dot(t.normal);
-    const bool inside = (t.b - t.a).cross(q - t.a).dot(t.normal) >= 0.0 &&
-                        (t.c - t.b).cross(q - t.b).dot(t.normal) >= 0.0 &&
-                        (t.a - t.c).cross(q - t.c).dot(t.normal) >= 0.0;
-    if (inside) return {q, TriRegion::face};
-    return closest_on_edges(p, t);
+// p's distances inside the edges ab, bc, ca (Triangle::inward). Every one is
+// a well-conditioned dot product, so slivers are classified as exactly as
+// large triangles.
+struct EdgeDistances {
+    double ab, bc, ca;
+    bool inside() const { return ab >= 0.0 && bc >= 0.0 && ca >= 0.0; }
+};
+
+EdgeDistances edge_distances(const Vec3& p, const Triangle& t) {
+    return {(p - t.a).dot(t.inward[0]), (p - t.b).dot(t.inward[1]), (p - t.c).dot(t.inward[2])};
 }
+
+// Outside an edge of a non-degenerate triangle: the nearest edge or vertex.
+ClosestPoint closest_outside_face(const Vec3& p, const Triangle& t);
 
 }  // namespace
 
 ClosestPoint closest_point_on_triangle(const Vec3& p, const Triangle& t) {
     if (t.degenerate) return closest_on_edges(p, t);
-    if (t.thin) return closest_on_thin(p, t);
+    // The face: the projection onto the plane (the common case, and the
+    // only well-conditioned one for a sliver).
+    if (edge_distances(p, t).inside()) return {p - t.normal * (p - t.a).dot(t.normal), TriRegion::face};
+    return closest_outside_face(p, t);
+}
+
+bool closest_point_within(const Vec3& p, const Triangle& t, double reach_m, ClosestPoint& out) {
+    if (t.degenerate) {
+        out = closest_on_edges(p, t);
+        return true;
+    }
+    const double h = (p - t.a).dot(t.normal);
+    if (h > reach_m || h < -reach_m) return false;
+    const EdgeDistances e = edge_distances(p, t);
+    if (e.ab < -reach_m || e.bc < -reach_m || e.ca < -reach_m) return false;
+    out = e.inside() ? ClosestPoint{p - t.normal * h, TriRegion::face} : closest_outside_face(p, t);
+    return true;
+}
+
+namespace {
+
+ClosestPoint closest_outside_face(const Vec3& p, const Triangle& t) {
+    // Slivers by their edges, where the Voronoi-region arithmetic below
+    // loses its digits to cancellation.
+    if (t.thin) return closest_on_edges(p, t);
     const Vec3& a = t.a;
     const Vec3& b = t.b;
     const Vec3& c = t.c;
@@ -118,5 +148,7 @@ ClosestPoint closest_point_on_triangle(const Vec3& p, const Triangle& t) {
     const double w = vc * denom;
     return {a + ab * v + ac * w, TriRegion::face};
 }
+
+}  // namespace
 
 }  // namespace jetrace

@@ -74,14 +74,6 @@ Vec3 contact_normal(const Triangle& t, const ClosestPoint& cp, const Vec3& p, do
     return (came_from - q).dot(t.normal) < 0.0 ? Vec3(-t.normal) : t.normal;
 }
 
-// Cheap exact rejection: a sphere farther than `reach` from the triangle's
-// plane cannot be within `reach` of the triangle.
-inline bool beyond_plane(const Triangle& t, const Vec3& p, double reach) {
-    if (t.degenerate) return false;
-    const double d = (p - t.a).dot(t.normal);
-    return d > reach || d < -reach;
-}
-
 // The swept phase: moves the car from `from` towards `position` until its
 // first contact, stops it there (epsilon clear), removes its velocity into
 // the surface, and slides the rest of the motion along it; up to
@@ -91,10 +83,8 @@ int sweep_motion(const Track& track, const UniformGrid& grid, Broadphase bp, con
     const double r = s.car_radius_m;
     Vec3 p = from;
     Vec3 d = position - from;
-    // Every slide stays within |d| of the start, plus epsilon per contact:
-    // one gather covers them all and the push-out that follows.
-    const double reach = std::sqrt(d.squaredNorm()) + s.sweep_contacts * s.resolver_epsilon_m + r +
-                         s.contact_skin_m + kGatherMargin_m;
+    // One gather covers every slide and the push-out that follows.
+    const double reach = sweep_reach(s, std::sqrt(d.squaredNorm()));
     if (!cand.covers(from, reach)) gather_candidates(grid, track, bp, from, reach + kGatherMargin_m, cand);
     int hits = 0;
     while (true) {
@@ -133,8 +123,8 @@ void find_contacts(const Track& track, const Candidates& cand, const PhysicsSett
     const double reach = s.car_radius_m + s.contact_skin_m;
     const double reach2 = reach * reach;
     for_each(track, cand, [&](const Triangle& t, std::size_t k) {
-        if (!cand.may_touch(k, center, reach) || beyond_plane(t, center, reach)) return true;
-        const ClosestPoint cp = closest_point_on_triangle(center, t);
+        ClosestPoint cp;
+        if (!cand.may_touch(k, center, reach) || !closest_point_within(center, t, reach, cp)) return true;
         const double d2 = (center - cp.point).squaredNorm();
         if (d2 < reach2) out.add(contact_normal(t, cp, center, std::sqrt(d2), center + t.normal));
         return true;
@@ -167,8 +157,8 @@ int push_pass(const Track& track, const UniformGrid& grid, Broadphase bp, const 
         const bool near = cand.may_touch(k, position, r);
         ++k;
         const Triangle& t = track.triangles[index];
-        if (!near || beyond_plane(t, position, r)) continue;
-        const ClosestPoint cp = closest_point_on_triangle(position, t);
+        ClosestPoint cp;
+        if (!near || !closest_point_within(position, t, r, cp)) continue;
         const double d2 = (position - cp.point).squaredNorm();
         if (d2 > r2) continue;  // not touching
         const Vec3 n = contact_normal(t, cp, position, std::sqrt(d2), previous_position);
@@ -215,9 +205,9 @@ ResolveStats resolve(const Track& track, const UniformGrid& grid, Broadphase bp,
     if (stats.passes == s.resolver_passes) {
         // Did the last pass leave the car clear?
         for_each(track, cand, [&](const Triangle& t, std::size_t k) {
-            if (!cand.may_touch(k, position, r)) return true;
-            const Vec3 q = closest_point_on_triangle(position, t).point;
-            if ((position - q).squaredNorm() < r2) {
+            ClosestPoint cp;
+            if (!cand.may_touch(k, position, r) || !closest_point_within(position, t, r, cp)) return true;
+            if ((position - cp.point).squaredNorm() < r2) {
                 stats.capped = true;
                 return false;
             }

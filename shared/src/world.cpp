@@ -72,7 +72,13 @@ void drive_phase(const Scene& sc, WorldState& st, std::span<const Input> inputs,
         cand.lookahead = car.velocity * (ps.dt_s() * kGatherLookahead_steps);
         if (ahead > kGatherLookaheadMax_m) cand.lookahead *= kGatherLookaheadMax_m / ahead;
         if (!cand.covers(car.position, reach - kGatherMargin_m)) {
-            gather_candidates(sc.grid, sc.track, sc.broadphase, car.position, reach, cand);
+            // Wide enough for this step's sweep too (its motion is about
+            // `travel`; kGatherMargin_m absorbs the step's acceleration), so
+            // that the sweep does not gather again.
+            const double gather_m = ps.collision_mode == CollisionMode::swept
+                                        ? std::max(reach, sweep_reach(ps, travel) + kGatherMargin_m)
+                                        : reach;
+            gather_candidates(sc.grid, sc.track, sc.broadphase, car.position, gather_m, cand);
         }
         if (!scr.contacts_valid[i] || !same(scr.contacts_at[i], car.position)) {
             find_contacts(sc.track, cand, ps, car.position, scr.contacts[i]);

@@ -30,6 +30,13 @@ struct Triangle {
     Vec3 a{0, 0, 0}, b{0, 0, 0}, c{0, 0, 0};
     /// Unit normal by the right-hand rule over (a, b, c); zero if degenerate.
     Vec3 normal{0, 0, 0};
+    /// Inward unit normals of the edges ab, bc and ca in the triangle's plane
+    /// (normal x edge; zero if degenerate). (p - a).inward[0] is p's distance
+    /// inside edge ab (negative: outside); p projects onto the face exactly
+    /// when all three are >= 0, and is farther than d from the triangle if
+    /// one is below -d. Precomputed because most contact queries land on a
+    /// face (a car on the floor) or beside it (the floor's next triangle).
+    Vec3 inward[3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
     /// True when the triangle has (almost) no area: it is then treated as its
     /// three edges.
     bool degenerate = false;
@@ -50,9 +57,16 @@ struct ClosestPoint {
     TriRegion region = TriRegion::face;
 };
 
-/// Exact closest point of `t` to `p` by Voronoi regions (Ericson, Real-Time
-/// Collision Detection 5.1.5), with degenerate triangles handled as segments.
+/// Exact closest point of `t` to `p`: the projection onto the plane when it
+/// falls inside the three edges (Triangle::inward), otherwise by Voronoi
+/// regions (Ericson, Real-Time Collision Detection 5.1.5; slivers by their
+/// edges), with degenerate triangles handled as segments.
 ClosestPoint closest_point_on_triangle(const Vec3& p, const Triangle& t);
+
+/// The same, unless `t` is certainly farther than `reach_m` from `p` (beyond
+/// its plane, or outside one of its edges, by more than reach_m): then false
+/// and `out` is untouched. The cheap test for a triangle near a car.
+bool closest_point_within(const Vec3& p, const Triangle& t, double reach_m, ClosestPoint& out);
 
 /// Closest point to p on segment [a, b].
 Vec3 closest_point_on_segment(const Vec3& p, const Vec3& a, const Vec3& b);

@@ -79,6 +79,13 @@ inline bool needs_sweep(const PhysicsSettings& s, const Vec3& from, const Vec3& 
     return s.collision_mode == CollisionMode::swept && (to - from).squaredNorm() > half_r * half_r;
 }
 
+/// How far around its start a sweep of `motion_m` needs candidates (unit: m):
+/// every slide stays within the motion's length of the start, plus epsilon
+/// per contact, plus the push-out's reach and kGatherMargin_m.
+inline double sweep_reach(const PhysicsSettings& s, double motion_m) {
+    return motion_m + s.sweep_contacts * s.resolver_epsilon_m + s.car_radius_m + s.contact_skin_m + kGatherMargin_m;
+}
+
 struct ResolveStats {
     /// Passes that pushed the car this step (the pass after them found it clear,
     /// unless they reached resolver_passes).

@@ -119,8 +119,10 @@ std::string validate(const PhysicsSettings& s);
 /// whenever a change alters any result (the golden hash in
 /// tests/test_determinism.cpp moves with it); part of the fingerprint, so
 /// peers running different cores refuse each other instead of diverging.
-///   1: the first networked core; 2: each-contact push-out passes.
-inline constexpr std::uint32_t kPhysicsRevision = 2;
+///   1: the first networked core; 2: each-contact push-out passes;
+///   3: face-region closest points by projection (same golden hash; the
+///      rounding of a face point can differ in its last bits).
+inline constexpr std::uint32_t kPhysicsRevision = 3;
 
 /// Hash of kPhysicsRevision and every field (raw bits): peers and replays
 /// must agree on it.
