@@ -164,12 +164,7 @@ void align_to_contacts(const PhysicsSettings& s, const Contacts& contacts, CarSt
     car.orientation = nlerp_from_identity(arc, t) * q;
 }
 
-void quantize_motion(CarState& car) {
-    for (int i = 0; i < 3; ++i) {
-        car.position[i] = quantize(car.position[i], kPosBits);
-        car.velocity[i] = quantize(car.velocity[i], kVelBits);
-    }
-}
+void quantize_motion(CarState& car) { quantize_motion(car.position, car.velocity); }
 
 void quantize_orientation(CarState& car) {
     // Unit to rounding after a turn, or already quantised (within 1e-4 of

@@ -1,5 +1,6 @@
 #include "jetrace/resolver.hpp"
 
+#include "jetrace/hovercar.hpp"
 #include "jetrace/sweep.hpp"
 
 #include <algorithm>
@@ -99,20 +100,23 @@ int sweep_motion(const Track& track, const UniformGrid& grid, Broadphase bp, con
             return true;
         });
         if (!found) {
-            p += d;
-            break;
+            // Nothing in the way: the car ends where it was going (exactly:
+            // from + (to - from) could round differently).
+            if (hits > 0) position = p + d;
+            return hits;
         }
         const Vec3& n = hit.normal;
         p += d * hit.t + n * s.resolver_epsilon_m;
         const double vn = velocity.dot(n);
         if (vn < 0.0) velocity -= n * vn;  // inelastic, as in the push-out
-        if (++hits == s.sweep_contacts) break;  // the rest of the motion is dropped
+        if (++hits == s.sweep_contacts) {  // the rest of the motion is dropped
+            position = p;
+            return hits;
+        }
         d *= 1.0 - hit.t;
         const double dn = d.dot(n);
         if (dn < 0.0) d -= n * dn;  // slide along the surface
     }
-    position = p;
-    return hits;
 }
 
 }  // namespace
@@ -136,7 +140,9 @@ namespace {
 // One push-out pass: in ascending triangle order, every candidate the sphere
 // touches (distance <= r) moves the centre to r + epsilon from its closest
 // point and loses its velocity into it; PushOut::first_contact stops after
-// the first. Returns the pushes made.
+// the first. Returns the pushes made. A pass that pushes nothing has also
+// found the contacts where the car is (exactly what find_contacts() finds:
+// the same tests in the same order), into `contacts`.
 //
 // The result depends only on the geometry, never on where the candidates
 // were gathered (a client restoring a snapshot into fresh scratch gathers
@@ -145,22 +151,27 @@ namespace {
 // resumes after the triangle it was at. The triangles it skips were checked
 // at positions the old region covered, as brute force would have.
 int push_pass(const Track& track, const UniformGrid& grid, Broadphase bp, const PhysicsSettings& s,
-              const Vec3& previous_position, Vec3& position, Vec3& velocity, Candidates& cand) {
+              const Vec3& previous_position, Vec3& position, Vec3& velocity, Candidates& cand, Contacts& contacts) {
     const double r = s.car_radius_m;
     const double r2 = r * r;
     const double target = r + s.resolver_epsilon_m;
     const double query_radius = r + s.contact_skin_m;
+    const double query2 = query_radius * query_radius;
+    contacts.clear();
     int pushes = 0;
     std::size_t k = 0;
     while (k < (cand.all ? track.triangles.size() : cand.triangles.size())) {
         const std::uint32_t index = cand.all ? static_cast<std::uint32_t>(k) : cand.triangles[k];
-        const bool near = cand.may_touch(k, position, r);
+        const bool near = cand.may_touch(k, position, query_radius);
         ++k;
         const Triangle& t = track.triangles[index];
         ClosestPoint cp;
-        if (!near || !closest_point_within(position, t, r, cp)) continue;
+        if (!near || !closest_point_within(position, t, query_radius, cp)) continue;
         const double d2 = (position - cp.point).squaredNorm();
-        if (d2 > r2) continue;  // not touching
+        if (d2 > r2) {  // not touching
+            if (d2 < query2) contacts.add(contact_normal(t, cp, position, std::sqrt(d2), position + t.normal));
+            continue;
+        }
         const Vec3 n = contact_normal(t, cp, position, std::sqrt(d2), previous_position);
         position = cp.point + n * target;
         const double vn = velocity.dot(n);
@@ -181,7 +192,8 @@ int push_pass(const Track& track, const UniformGrid& grid, Broadphase bp, const 
 }  // namespace
 
 ResolveStats resolve(const Track& track, const UniformGrid& grid, Broadphase bp, const PhysicsSettings& s,
-                     const Vec3& previous_position, Vec3& position, Vec3& velocity, Candidates& cand) {
+                     const Vec3& previous_position, Vec3& position, Vec3& velocity, Candidates& cand,
+                     Contacts& contacts) {
     ResolveStats stats;
     const double r = s.car_radius_m;
     const double r2 = r * r;
@@ -192,15 +204,24 @@ ResolveStats resolve(const Track& track, const UniformGrid& grid, Broadphase bp,
         // sphere that started clear ends at least r/2 from every triangle
         // on the side it came from.
         stats.sweep_hits = sweep_motion(track, grid, bp, s, previous_position, position, velocity, cand);
+        // A sweep that met nothing left the car where it was (quantised).
+        if (stats.sweep_hits > 0 && s.quantize_state) quantize_motion(position, velocity);
     }
     if (!cand.covers(position, query_radius)) {
         gather_candidates(grid, track, bp, position, query_radius + kGatherMargin_m, cand);
     }
     for (int pass = 0; pass < s.resolver_passes; ++pass) {
-        const int pushes = push_pass(track, grid, bp, s, previous_position, position, velocity, cand);
-        if (pushes == 0) break;
+        const int pushes = push_pass(track, grid, bp, s, previous_position, position, velocity, cand, contacts);
+        if (pushes == 0) {
+            stats.found_contacts = true;
+            break;
+        }
         ++stats.passes;
         stats.pushes += pushes;
+        // Pushed cars are rounded too, and the next pass checks them where
+        // they will be: rounding moves a car at most sqrt(3) 2^-11 m (0.85
+        // mm), less than epsilon, so it cannot undo a push.
+        if (s.quantize_state) quantize_motion(position, velocity);
     }
     if (stats.passes == s.resolver_passes) {
         // Did the last pass leave the car clear?

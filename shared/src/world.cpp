@@ -99,6 +99,10 @@ void resolve_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
     for (std::size_t i = 0; i < st.cars.size(); ++i) {
         CarState& car = st.cars[i];
         if (!car.active) continue;
+        // Rounded to the wire resolution before the push-out, which then
+        // checks the car where the step leaves it (resolve() rounds again
+        // after any push).
+        if (sc.physics.quantize_state) quantize_motion(car);
         // Exact shortcut: the resolver already found this very position
         // clear of every triangle, and only the position decides that (if
         // the step's motion needs no sweep, which also depends on where the
@@ -108,7 +112,10 @@ void resolve_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
             continue;
         }
         const ResolveStats r = resolve(sc.track, sc.grid, sc.broadphase, sc.physics, scr.previous_position[i],
-                                       car.position, car.velocity, scr.candidates[i]);
+                                       car.position, car.velocity, scr.candidates[i], scr.contacts[i]);
+        // The pass that found the car clear found its contacts there too.
+        scr.contacts_valid[i] = r.found_contacts ? 1 : 0;
+        scr.contacts_at[i] = car.position;
         scr.pushes += r.pushes;
         scr.max_passes = std::max(scr.max_passes, r.passes);
         scr.capped += r.capped ? 1 : 0;
@@ -118,15 +125,16 @@ void resolve_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
     }
 }
 
-// Phase 4: gates, laps, respawn; quantise position and velocity; find the
-// contacts where the car now is and align it to them; quantise orientation.
+// Phase 4: gates, laps, respawn; find the contacts where the car now is
+// (unless the push-out found them there) and align it to them; quantise
+// orientation. Position and velocity are already quantised (phase 3, and a
+// respawn places the car quantised).
 void rules_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
     const PhysicsSettings& ps = sc.physics;
     for (std::size_t i = 0; i < st.cars.size(); ++i) {
         CarState& car = st.cars[i];
         if (!car.active) continue;
         apply_race_rules(sc.track, ps, st.laps, st.tick, st.tick >= st.start_tick, scr.previous_position[i], car);
-        if (ps.quantize_state) quantize_motion(car);
         Candidates& cand = scr.candidates[i];
         const double reach = ps.car_radius_m + ps.contact_skin_m;
         if (!cand.covers(car.position, reach)) {

@@ -65,6 +65,11 @@ inline double quantize(double x, int bits) {
     return std::nearbyint(y) * inv_scale;
 }
 
+/// Each coordinate of v rounded to a multiple of 2^-bits.
+inline void quantize(Vec3& v, int bits) {
+    for (int i = 0; i < 3; ++i) v[i] = quantize(v[i], bits);
+}
+
 /// q / |q| for a quaternion already within about 1e-3 of unit length (such
 /// as a quantised unit quaternion, |q|^2 - 1 below 2e-4): one Newton step for
 /// 1/sqrt, no sqrt or division, leaves |q| - 1 below 2e-8 (a thousandth of

@@ -96,6 +96,9 @@ struct ResolveStats {
     int sweep_hits = 0;
     /// True if the pass cap stopped the resolver with the car still inside a triangle.
     bool capped = false;
+    /// True if the last pass pushed nothing: `contacts` then holds what
+    /// find_contacts() finds where the car ends (else they are stale).
+    bool found_contacts = false;
 };
 
 /// In CollisionMode::swept, a car that moved more than half its radius since
@@ -108,8 +111,12 @@ struct ResolveStats {
 /// after a pass that pushed nothing. With epsilon 0 a pushed-out triangle
 /// still counts as touching and eats every pass (the seed's fall through the
 /// ground). Re-gathers candidates if pushes carry the car out of their reach;
-/// the result does not depend on where they were gathered.
+/// the result does not depend on where they were gathered. With
+/// quantize_state, the car is rounded to the wire resolution after the sweep
+/// and after every pushing pass, so the pass that finds it clear runs where
+/// it ends; that pass also finds its contacts (ResolveStats::found_contacts).
 ResolveStats resolve(const Track& track, const UniformGrid& grid, Broadphase bp, const PhysicsSettings& s,
-                     const Vec3& previous_position, Vec3& position, Vec3& velocity, Candidates& cand);
+                     const Vec3& previous_position, Vec3& position, Vec3& velocity, Candidates& cand,
+                     Contacts& contacts);
 
 }  // namespace jetrace

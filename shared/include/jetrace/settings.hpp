@@ -120,8 +120,9 @@ std::string validate(const PhysicsSettings& s);
 /// tests/test_determinism.cpp moves with it); part of the fingerprint, so
 /// peers running different cores refuse each other instead of diverging.
 ///   1: the first networked core; 2: each-contact push-out passes;
-///   3: face-region closest points by projection (same golden hash; the
-///      rounding of a face point can differ in its last bits).
+///   3: face-region closest points by projection; the car is quantised
+///      before the push-out, whose clean pass also finds the contacts; a
+///      sweep that meets nothing leaves the position's bits alone.
 inline constexpr std::uint32_t kPhysicsRevision = 3;
 
 /// Hash of kPhysicsRevision and every field (raw bits): peers and replays
