@@ -93,8 +93,11 @@ bool closest_point_within(const Vec3& p, const Triangle& t, double reach_m, Clos
     }
     const double h = (p - t.a).dot(t.normal);
     if (h > reach_m || h < -reach_m) return false;
-    const EdgeDistances e = edge_distances(p, t);
-    if (e.ab < -reach_m || e.bc < -reach_m || e.ca < -reach_m) return false;
+    // Edge by edge, so that a triangle beyond its first edge costs one test.
+    EdgeDistances e{};
+    if ((e.ab = (p - t.a).dot(t.inward[0])) < -reach_m) return false;
+    if ((e.bc = (p - t.b).dot(t.inward[1])) < -reach_m) return false;
+    if ((e.ca = (p - t.c).dot(t.inward[2])) < -reach_m) return false;
     out = e.inside() ? ClosestPoint{p - t.normal * h, TriRegion::face} : closest_outside_face(p, t);
     return true;
 }

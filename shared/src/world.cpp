@@ -135,12 +135,12 @@ void rules_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
         CarState& car = st.cars[i];
         if (!car.active) continue;
         apply_race_rules(sc.track, ps, st.laps, st.tick, st.tick >= st.start_tick, scr.previous_position[i], car);
-        Candidates& cand = scr.candidates[i];
-        const double reach = ps.car_radius_m + ps.contact_skin_m;
-        if (!cand.covers(car.position, reach)) {
-            gather_candidates(sc.grid, sc.track, sc.broadphase, car.position, reach + kGatherMargin_m, cand);
-        }
         if (!scr.contacts_valid[i] || !same(scr.contacts_at[i], car.position)) {
+            Candidates& cand = scr.candidates[i];
+            const double reach = ps.car_radius_m + ps.contact_skin_m;
+            if (!cand.covers(car.position, reach)) {
+                gather_candidates(sc.grid, sc.track, sc.broadphase, car.position, reach + kGatherMargin_m, cand);
+            }
             find_contacts(sc.track, cand, ps, car.position, scr.contacts[i]);
             scr.contacts_at[i] = car.position;
             scr.contacts_valid[i] = 1;
