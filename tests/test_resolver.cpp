@@ -455,3 +455,54 @@ TEST(Resolver, GridAndBruteForceGiveIdenticalHashes) {
         broadphases_agree(make_oval(stadium_params()), 4, 2000, rng());
     }
 }
+
+// ================================== contacts from the push-out, and its hint
+
+// The pass that finds a car clear also finds its contacts: they must be what
+// find_contacts() finds where the car ends, and resolve()'s expect_push hint
+// (which only skips that work in a pass expected to push) must change
+// nothing. Cars are dropped near random triangles of the stadium, some
+// inside them, with random velocities.
+TEST(Resolver, PushOutContactsEqualFindContactsWhateverTheHint) {
+    JETRACE_SEEDED_RNG(rng);
+    const Scene sc = Scene::make(make_oval(stadium_params()), PhysicsSettings{});
+    const PhysicsSettings& ps = sc.physics;
+    std::uniform_int_distribution<std::size_t> pick(0, sc.track.triangles.size() - 1);
+    std::uniform_real_distribution<double> unit(0.0, 1.0), offset(-1.0, 3.5), speed(-40.0, 40.0);
+    int found = 0, pushed = 0;
+    for (int i = 0; i < 3000; ++i) {
+        const Triangle& t = sc.track.triangles[pick(rng)];
+        double u = unit(rng), v = unit(rng);
+        if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
+        const Vec3 on = t.a + (t.b - t.a) * u + (t.c - t.a) * v;
+        Vec3 start = on + (t.degenerate ? kWorldUp : t.normal) * offset(rng);
+        Vec3 velocity(speed(rng), speed(rng), speed(rng));
+        quantize_motion(start, velocity);
+        const Vec3 from = start - velocity * ps.dt_s();
+        Vec3 p[2] = {start, start}, vel[2] = {velocity, velocity};
+        Contacts c[2];
+        ResolveStats r[2];
+        for (int hint = 0; hint < 2; ++hint) {
+            Candidates cand;
+            r[hint] = resolve(sc.track, sc.grid, sc.broadphase, ps, from, p[hint], vel[hint], cand, c[hint], hint == 1);
+        }
+        ASSERT_TRUE(same(p[0], p[1]) && same(vel[0], vel[1])) << "drop " << i << ": the hint changed the result";
+        ASSERT_EQ(r[0].pushes, r[1].pushes) << "drop " << i;
+        pushed += r[0].pushes > 0 ? 1 : 0;
+        for (int hint = 0; hint < 2; ++hint) {
+            if (!r[hint].found_contacts) continue;
+            ++found;
+            Candidates cand;
+            gather_candidates(sc.grid, sc.track, sc.broadphase, p[hint], ps.car_radius_m + ps.contact_skin_m, cand);
+            Contacts expected;
+            find_contacts(sc.track, cand, ps, p[hint], expected);
+            ASSERT_EQ(c[hint].count, expected.count) << "drop " << i << ", hint " << hint;
+            for (int k = 0; k < expected.count; ++k) {
+                ASSERT_TRUE(same(c[hint].normal[k], expected.normal[k])) << "drop " << i << ", contact " << k;
+            }
+        }
+    }
+    // Not vacuous: many drops pushed, and most resolves found contacts.
+    EXPECT_GT(pushed, 300);
+    EXPECT_GT(found, 3000);
+}

@@ -140,9 +140,9 @@ namespace {
 // One push-out pass: in ascending triangle order, every candidate the sphere
 // touches (distance <= r) moves the centre to r + epsilon from its closest
 // point and loses its velocity into it; PushOut::first_contact stops after
-// the first. Returns the pushes made. A pass that pushes nothing has also
-// found the contacts where the car is (exactly what find_contacts() finds:
-// the same tests in the same order), into `contacts`.
+// the first. Returns the pushes made. With `collect`, a pass that pushes
+// nothing has also found the contacts where the car is (exactly what
+// find_contacts() finds: the same tests in the same order), into `contacts`.
 //
 // The result depends only on the geometry, never on where the candidates
 // were gathered (a client restoring a snapshot into fresh scratch gathers
@@ -151,27 +151,34 @@ namespace {
 // resumes after the triangle it was at. The triangles it skips were checked
 // at positions the old region covered, as brute force would have.
 int push_pass(const Track& track, const UniformGrid& grid, Broadphase bp, const PhysicsSettings& s,
-              const Vec3& previous_position, Vec3& position, Vec3& velocity, Candidates& cand, Contacts& contacts) {
+              const Vec3& previous_position, Vec3& position, Vec3& velocity, Candidates& cand, bool collect,
+              Contacts& contacts) {
     const double r = s.car_radius_m;
     const double r2 = r * r;
     const double target = r + s.resolver_epsilon_m;
     const double query_radius = r + s.contact_skin_m;
     const double query2 = query_radius * query_radius;
-    contacts.clear();
+    if (collect) contacts.clear();
     int pushes = 0;
+    // Contacts only matter while the pass has pushed nothing; after a push
+    // only touching triangles do, and the cheaper reach r rejects the rest.
+    double reach = collect ? query_radius : r;
     std::size_t k = 0;
     while (k < (cand.all ? track.triangles.size() : cand.triangles.size())) {
         const std::uint32_t index = cand.all ? static_cast<std::uint32_t>(k) : cand.triangles[k];
-        const bool near = cand.may_touch(k, position, query_radius);
+        const bool near = cand.may_touch(k, position, reach);
         ++k;
         const Triangle& t = track.triangles[index];
         ClosestPoint cp;
-        if (!near || !closest_point_within(position, t, query_radius, cp)) continue;
+        if (!near || !closest_point_within(position, t, reach, cp)) continue;
         const double d2 = (position - cp.point).squaredNorm();
         if (d2 > r2) {  // not touching
-            if (d2 < query2) contacts.add(contact_normal(t, cp, position, std::sqrt(d2), position + t.normal));
+            if (collect && pushes == 0 && d2 < query2) {
+                contacts.add(contact_normal(t, cp, position, std::sqrt(d2), position + t.normal));
+            }
             continue;
         }
+        reach = r;
         const Vec3 n = contact_normal(t, cp, position, std::sqrt(d2), previous_position);
         position = cp.point + n * target;
         const double vn = velocity.dot(n);
@@ -193,7 +200,7 @@ int push_pass(const Track& track, const UniformGrid& grid, Broadphase bp, const 
 
 ResolveStats resolve(const Track& track, const UniformGrid& grid, Broadphase bp, const PhysicsSettings& s,
                      const Vec3& previous_position, Vec3& position, Vec3& velocity, Candidates& cand,
-                     Contacts& contacts) {
+                     Contacts& contacts, bool expect_push) {
     ResolveStats stats;
     const double r = s.car_radius_m;
     const double r2 = r * r;
@@ -211,9 +218,12 @@ ResolveStats resolve(const Track& track, const UniformGrid& grid, Broadphase bp,
         gather_candidates(grid, track, bp, position, query_radius + kGatherMargin_m, cand);
     }
     for (int pass = 0; pass < s.resolver_passes; ++pass) {
-        const int pushes = push_pass(track, grid, bp, s, previous_position, position, velocity, cand, contacts);
+        // A pass expected to push skips the contacts (they would be stale);
+        // the pass after it finds them.
+        const bool collect = !(expect_push && pass == 0);
+        const int pushes = push_pass(track, grid, bp, s, previous_position, position, velocity, cand, collect, contacts);
         if (pushes == 0) {
-            stats.found_contacts = true;
+            stats.found_contacts = collect;
             break;
         }
         ++stats.passes;

@@ -48,6 +48,7 @@ void ensure_scratch(std::size_t n, StepScratch& s) {
         s.previous_position.resize(n);
         s.clear_at.resize(n);
         s.clear_valid.assign(n, 0);
+        s.pushed_last.assign(n, 0);
     }
 }
 
@@ -112,7 +113,9 @@ void resolve_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
             continue;
         }
         const ResolveStats r = resolve(sc.track, sc.grid, sc.broadphase, sc.physics, scr.previous_position[i],
-                                       car.position, car.velocity, scr.candidates[i], scr.contacts[i]);
+                                       car.position, car.velocity, scr.candidates[i], scr.contacts[i],
+                                       scr.pushed_last[i] != 0);
+        scr.pushed_last[i] = r.pushes > 0 ? 1 : 0;
         // The pass that found the car clear found its contacts there too.
         scr.contacts_valid[i] = r.found_contacts ? 1 : 0;
         scr.contacts_at[i] = car.position;

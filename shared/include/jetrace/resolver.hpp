@@ -96,8 +96,8 @@ struct ResolveStats {
     int sweep_hits = 0;
     /// True if the pass cap stopped the resolver with the car still inside a triangle.
     bool capped = false;
-    /// True if the last pass pushed nothing: `contacts` then holds what
-    /// find_contacts() finds where the car ends (else they are stale).
+    /// True if `contacts` holds what find_contacts() finds where the car
+    /// ends (the last pass pushed nothing and collected them).
     bool found_contacts = false;
 };
 
@@ -115,8 +115,11 @@ struct ResolveStats {
 /// quantize_state, the car is rounded to the wire resolution after the sweep
 /// and after every pushing pass, so the pass that finds it clear runs where
 /// it ends; that pass also finds its contacts (ResolveStats::found_contacts).
+/// `expect_push` (a car pushed in its last step, such as one pressed into a
+/// corner) only saves work: the first pass then skips the contacts, which a
+/// pushing pass would throw away. Results never depend on it.
 ResolveStats resolve(const Track& track, const UniformGrid& grid, Broadphase bp, const PhysicsSettings& s,
                      const Vec3& previous_position, Vec3& position, Vec3& velocity, Candidates& cand,
-                     Contacts& contacts);
+                     Contacts& contacts, bool expect_push = false);
 
 }  // namespace jetrace

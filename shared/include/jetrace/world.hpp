@@ -53,6 +53,9 @@ struct StepScratch {
     /// a car found there again (at rest) needs no push-out test.
     std::vector<Vec3> clear_at;
     std::vector<std::uint8_t> clear_valid;
+    /// Whether each car was pushed out in its last resolve (a hint that
+    /// saves work, never changes a result; see resolve()).
+    std::vector<std::uint8_t> pushed_last;
     /// Push-outs, most pushing passes of one car, and capped resolves in the
     /// last step (diagnostics).
     int pushes = 0;
