@@ -125,8 +125,10 @@ struct Straight {
     Input input;
 };
 
-// ns per step of one jetrace car from `start` for `frames` steps.
-double jetrace_run(const Scene& sc, const Straight& s, int frames) {
+// ns per step of one jetrace car from `start` for `frames` steps. Never
+// inlined, so that callgrind can count only it: docs/ACCURACY.md runs
+// valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*jetrace_timed_run*'.
+[[gnu::noinline]] double jetrace_timed_run(const Scene& sc, const Straight& s, int frames) {
     WorldState st = lab::one_car(s.start, s.forward, s.velocity);
     StepScratch scratch;
     const CpuTimer timer;
@@ -191,18 +193,26 @@ void print(nlohmann::json& j, const std::vector<double>& ours, const std::vector
 
 void straight_scenario(const char* name, const Straight& s, const BulletOptions& o, const PhysicsSettings& ps) {
     const Scene sc = Scene::make(make_oval(stadium_params()), ps);
-    BulletScene b(sc.track, ps.car_radius_m, ps.gravity_mps2);
-    std::vector<double> ours, theirs;
-    for (int r = 0; r < o.repeats; ++r) {
-        ours.push_back(jetrace_run(sc, s, o.frames));
-        theirs.push_back(bullet_run(b, ps, s, o.frames));
-    }
     nlohmann::json j;
     j["scenario"] = name;
     j["tick_rate_hz"] = ps.tick_rate_hz;
     j["frames"] = o.frames;
     j["repeats"] = o.repeats;
     j["triangles"] = sc.track.triangles.size();
+    std::vector<double> ours, theirs;
+    if (o.jetrace_only) {
+        for (int r = 0; r < o.repeats; ++r) ours.push_back(jetrace_timed_run(sc, s, o.frames));
+        j["jetrace_ns_per_step"] = median(ours);
+        j["jetrace_runs_ns"] = ours;
+        std::printf("%s\n", j.dump().c_str());
+        std::fflush(stdout);
+        return;
+    }
+    BulletScene b(sc.track, ps.car_radius_m, ps.gravity_mps2);
+    for (int r = 0; r < o.repeats; ++r) {
+        ours.push_back(jetrace_timed_run(sc, s, o.frames));
+        theirs.push_back(bullet_run(b, ps, s, o.frames));
+    }
     const Excursions ex = height_excursions(sc, b, s, o.frames);
     j["jetrace_max_height_change_m"] = ex.ours_max_m;
     j["bullet_max_height_change_m"] = ex.theirs_max_m;
@@ -306,6 +316,10 @@ void add_bullet_options(CLI::App& app, BulletOptions& o) {
     app.add_option("--repeats", o.repeats, "timed runs per system; medians reported")->check(CLI::Range(1, 100));
     app.add_option("--rate", o.tick_rate_hz, "step rate of both systems (Hz)")->check(CLI::Range(30, 960));
     app.add_flag("--quick", o.quick, "coarse tunnelling search (smoke test)");
+    app.add_option("--scenario", o.scenario, "run only this scenario")
+        ->check(CLI::IsMember({"idle", "driving", "thin_wall"}));
+    app.add_flag("--jetrace-only", o.jetrace_only,
+                 "idle and driving: time jetrace only (for callgrind; see docs/ACCURACY.md)");
 }
 
 int run_bullet(const BulletOptions& o) {
@@ -314,7 +328,12 @@ int run_bullet(const BulletOptions& o) {
     ps.no_progress_s = 3599.0;
     const Track stadium = make_oval(stadium_params());
     const Pose& pole = stadium.spawns.front();
-    straight_scenario("idle", Straight{pole.position, Vec3::Zero(), pole.forward, Input{}}, o, ps);
+    const auto wanted = [&](const char* name) { return o.scenario.empty() || o.scenario == name; };
+    if (o.jetrace_only && o.scenario == "thin_wall") {
+        std::fprintf(stderr, "jetrace-bench bullet: --jetrace-only applies to idle and driving\n");
+        return 2;
+    }
+    if (wanted("idle")) straight_scenario("idle", Straight{pole.position, Vec3::Zero(), pole.forward, Input{}}, o, ps);
     // Straight B runs from x = 1200 to 0 at z = 300, heading -X.
     const double rest = ps.car_radius_m + ps.resolver_epsilon_m;
     // Frames until 1,000 m are covered from 100 m/s at full thrust (no drag).
@@ -322,10 +341,12 @@ int run_bullet(const BulletOptions& o) {
     const int frames_on_straight = static_cast<int>(t_straight * ps.tick_rate_hz);
     BulletOptions drive = o;
     drive.frames = std::min(o.frames, frames_on_straight);
-    straight_scenario("driving", Straight{Vec3(1150, rest, 300), Vec3(-100, 0, 0), Vec3(-1, 0, 0),
-                                          Input::clamped(Input::kMaxThrottle, 0, 0)},
-                      drive, ps);
-    thin_wall_scenario(o, ps);
+    if (wanted("driving")) {
+        straight_scenario("driving", Straight{Vec3(1150, rest, 300), Vec3(-100, 0, 0), Vec3(-1, 0, 0),
+                                              Input::clamped(Input::kMaxThrottle, 0, 0)},
+                          drive, ps);
+    }
+    if (wanted("thin_wall") && !o.jetrace_only) thin_wall_scenario(o, ps);
     return 0;
 }
 

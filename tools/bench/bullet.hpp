@@ -6,6 +6,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include <string>
+
 namespace jetrace::bench {
 
 struct BulletOptions {
@@ -17,6 +19,11 @@ struct BulletOptions {
     int tick_rate_hz = 120;
     /// Coarser tunnelling search (for the smoke test).
     bool quick = false;
+    /// Only this scenario ("idle", "driving", "thin_wall"; "" = all).
+    std::string scenario;
+    /// Idle and driving: time jetrace's runs only (no Bullet), e.g. to count
+    /// instructions per step under callgrind (docs/ACCURACY.md).
+    bool jetrace_only = false;
 };
 
 void add_bullet_options(CLI::App& app, BulletOptions& o);
