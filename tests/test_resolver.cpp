@@ -506,3 +506,69 @@ TEST(Resolver, PushOutContactsEqualFindContactsWhateverTheHint) {
     EXPECT_GT(pushed, 300);
     EXPECT_GT(found, 3000);
 }
+
+// Two ways the push-out's result once depended on scratch (found in review):
+// rounding after a pushing pass carried the car to the edge of its gathered
+// candidates, so the clear pass missed a contact just beyond them; and a
+// triangle at a distance of r within rounding was pushed by a pass
+// collecting contacts (reach r + skin) but not by a pass at reach r (the
+// hint's first pass), whose cheap plane and edge tests reject it.
+TEST(Resolver, PushOutResultDoesNotDependOnScratch) {
+    const PhysicsSettings ps;
+    const double r = ps.car_radius_m, reach = r + ps.contact_skin_m, eps = ps.resolver_epsilon_m;
+    {
+        SCOPED_TRACE("candidates gathered just past the pushed car");
+        const double pushed_x = -0.0004;  // where the push leaves the car; rounds to 0
+        const double xa = pushed_x - r - eps, xb = reach - 0.0002;
+        const std::vector<Vec3> v = {{xa, -50, -50}, {xa, 150, -50}, {xa, -50, 150},
+                                     {xb, -50, -50}, {xb, -50, 150}, {xb, 150, -50}};
+        const Scene sc = Scene::make(make_track("gap", v, {0, 1, 2, 3, 4, 5}, {}, {Pose{}}, -100), ps);
+        const Vec3 start(pushed_x - 0.002, 0, 0);
+        Candidates tight;
+        tight.lookahead = Vec3(-0.01, 0, 0);
+        gather_candidates(sc.grid, sc.track, sc.broadphase, Vec3(pushed_x, 0, 0), reach + 0.0001, tight);
+        Vec3 p = start, vel(-1, 0, 0);
+        Contacts c;
+        const ResolveStats s = resolve(sc.track, sc.grid, sc.broadphase, ps, start, p, vel, tight, c);
+        ASSERT_EQ(s.pushes, 1);
+        ASSERT_TRUE(s.found_contacts);
+        Candidates fresh;
+        gather_candidates(sc.grid, sc.track, sc.broadphase, p, reach + 1.0, fresh);
+        Contacts expected;
+        find_contacts(sc.track, fresh, ps, p, expected);
+        EXPECT_EQ(expected.count, 2);
+        EXPECT_EQ(c.count, expected.count) << "the clear pass missed a contact beyond its candidates";
+    }
+    {
+        SCOPED_TRACE("a triangle at distance r, within rounding");
+        JETRACE_SEEDED_RNG(rng);
+        std::uniform_real_distribution<double> unit(-1.0, 1.0), far(-500.0, 500.0);
+        int differ = 0, pushed = 0;
+        for (int i = 0; i < 4000; ++i) {
+            Vec3 p(far(rng), far(rng), far(rng)), zero(0, 0, 0);
+            quantize_motion(p, zero);
+            const Vec3 n = Vec3(unit(rng), unit(rng), unit(rng)).normalized();
+            const Vec3 u = n.cross(Vec3(unit(rng), unit(rng), unit(rng))).normalized(), w = n.cross(u);
+            std::vector<Vec3> v;
+            if (i % 2 == 0) {  // the car over the face, at height r
+                const Vec3 base = p - n * r;
+                v = {base + u * 10, base + w * 10 - u * 5, base - w * 10 - u * 5};
+            } else {  // beside an edge, in the plane, at distance r
+                const Vec3 q = p - u * r;
+                v = {q + w * 10, q - w * 10, q - u * 10};
+            }
+            const Scene sc = Scene::make(make_track("knife", v, {0, 1, 2}, {}, {Pose{}}, -1e6), ps);
+            Vec3 pos[2] = {p, p}, vel[2] = {-n, -n};
+            ResolveStats s[2];
+            for (int hint = 0; hint < 2; ++hint) {
+                Candidates cand;
+                Contacts c;
+                s[hint] = resolve(sc.track, sc.grid, sc.broadphase, ps, p, pos[hint], vel[hint], cand, c, hint == 1);
+            }
+            pushed += s[0].pushes > 0 ? 1 : 0;
+            differ += (s[0].pushes != s[1].pushes || !same(pos[0], pos[1]) || !same(vel[0], vel[1])) ? 1 : 0;
+        }
+        EXPECT_EQ(differ, 0) << "of 4,000 knife-edge cases, the hint changed this many results";
+        EXPECT_GT(pushed, 100);  // not vacuous: many cases are at the knife edge and push
+    }
+}

@@ -139,6 +139,21 @@ done
 server_rc=0
 wait "$server_pid" || server_rc=$?
 crash=0
+# The bots leave once the server has gone; a bot still running 30 s later
+# is killed and counts as a crash (so that the soak never hangs here).
+for _ in $(seq 1 120); do
+  alive=0
+  for bp in "${bot_pids[@]}"; do if kill -0 "$bp" 2>/dev/null; then alive=1; fi; done
+  [ "$alive" = 0 ] && break
+  sleep 0.25
+done
+for bp in "${bot_pids[@]}"; do
+  if kill -0 "$bp" 2>/dev/null; then
+    echo "soak: bot process $bp still running 30 s after the server stopped: killed"
+    kill -KILL "$bp" 2>/dev/null || true
+    crash=1
+  fi
+done
 for bp in "${bot_pids[@]}"; do
   rc=0; wait "$bp" || rc=$?
   if [ "$rc" -ge 128 ]; then echo "soak: a bot process died with status $rc"; crash=1; fi

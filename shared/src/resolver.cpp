@@ -165,14 +165,22 @@ int push_pass(const Track& track, const UniformGrid& grid, Broadphase bp, const 
     double reach = collect ? query_radius : r;
     std::size_t k = 0;
     while (k < (cand.all ? track.triangles.size() : cand.triangles.size())) {
-        const std::uint32_t index = cand.all ? static_cast<std::uint32_t>(k) : cand.triangles[k];
-        const bool near = cand.may_touch(k, position, reach);
-        ++k;
+        const std::size_t at = k++;
+        const std::uint32_t index = cand.all ? static_cast<std::uint32_t>(at) : cand.triangles[at];
         const Triangle& t = track.triangles[index];
         ClosestPoint cp;
-        if (!near || !closest_point_within(position, t, reach, cp)) continue;
+        if (!cand.may_touch(at, position, reach) || !closest_point_within(position, t, reach, cp)) continue;
         const double d2 = (position - cp.point).squaredNorm();
-        if (d2 > r2) {  // not touching
+        // Touching is decided exactly as a pass at reach r decides it (its
+        // cheap rejections included, which rounding can tip at a distance of
+        // r), so that the push never depends on the reach this pass gathers
+        // contacts at, that is, on resolve()'s hint.
+        bool touching = d2 <= r2;
+        if (touching && reach != r) {
+            ClosestPoint same_point;
+            touching = cand.may_touch(at, position, r) && closest_point_within(position, t, r, same_point);
+        }
+        if (!touching) {
             if (collect && pushes == 0 && d2 < query2) {
                 contacts.add(contact_normal(t, cp, position, std::sqrt(d2), position + t.normal));
             }
@@ -211,7 +219,8 @@ ResolveStats resolve(const Track& track, const UniformGrid& grid, Broadphase bp,
         // sphere that started clear ends at least r/2 from every triangle
         // on the side it came from.
         stats.sweep_hits = sweep_motion(track, grid, bp, s, previous_position, position, velocity, cand);
-        // A sweep that met nothing left the car where it was (quantised).
+        // A sweep that met nothing left the car where it was (the step
+        // rounded it before the push-out).
         if (stats.sweep_hits > 0 && s.quantize_state) quantize_motion(position, velocity);
     }
     if (!cand.covers(position, query_radius)) {
@@ -230,8 +239,17 @@ ResolveStats resolve(const Track& track, const UniformGrid& grid, Broadphase bp,
         stats.pushes += pushes;
         // Pushed cars are rounded too, and the next pass checks them where
         // they will be: rounding moves a car at most sqrt(3) 2^-11 m (0.85
-        // mm), less than epsilon, so it cannot undo a push.
-        if (s.quantize_state) quantize_motion(position, velocity);
+        // mm), less than the default epsilon (1/1024 m), so it cannot undo a
+        // push (a smaller epsilon lets it: docs/ACCURACY.md). Rounding can
+        // also carry the car to the edge of its candidates: the next pass
+        // must cover it, or its contacts would depend on where they were
+        // gathered.
+        if (s.quantize_state) {
+            quantize_motion(position, velocity);
+            if (!cand.covers(position, query_radius)) {
+                gather_candidates(grid, track, bp, position, query_radius + kGatherMargin_m, cand);
+            }
+        }
     }
     if (stats.passes == s.resolver_passes) {
         // Did the last pass leave the car clear?
