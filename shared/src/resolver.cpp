@@ -86,7 +86,7 @@ int sweep_motion(const Track& track, const UniformGrid& grid, Broadphase bp, con
     Vec3 d = position - from;
     // One gather covers every slide and the push-out that follows.
     const double reach = sweep_reach(s, std::sqrt(d.squaredNorm()));
-    if (!cand.covers(from, reach)) gather_candidates(grid, track, bp, from, reach + kGatherMargin_m, cand);
+    keep_covered(grid, track, bp, from, reach, cand);
     int hits = 0;
     while (true) {
         SweepHit hit;
@@ -192,12 +192,9 @@ int push_pass(const Track& track, const UniformGrid& grid, Broadphase bp, const 
         const double vn = velocity.dot(n);
         if (vn < 0.0) velocity -= n * vn;  // inelastic: no velocity into the surface
         ++pushes;
-        if (!cand.covers(position, query_radius)) {
-            gather_candidates(grid, track, bp, position, query_radius + kGatherMargin_m, cand);
-            if (!cand.all) {
-                k = static_cast<std::size_t>(std::upper_bound(cand.triangles.begin(), cand.triangles.end(), index) -
-                                             cand.triangles.begin());
-            }
+        if (keep_covered(grid, track, bp, position, query_radius, cand) && !cand.all) {
+            k = static_cast<std::size_t>(std::upper_bound(cand.triangles.begin(), cand.triangles.end(), index) -
+                                         cand.triangles.begin());
         }
         if (s.push_out == PushOut::first_contact) break;
     }
@@ -223,9 +220,7 @@ ResolveStats resolve(const Track& track, const UniformGrid& grid, Broadphase bp,
         // rounded it before the push-out).
         if (stats.sweep_hits > 0 && s.quantize_state) quantize_motion(position, velocity);
     }
-    if (!cand.covers(position, query_radius)) {
-        gather_candidates(grid, track, bp, position, query_radius + kGatherMargin_m, cand);
-    }
+    keep_covered(grid, track, bp, position, query_radius, cand);
     for (int pass = 0; pass < s.resolver_passes; ++pass) {
         // A pass expected to push skips the contacts (they would be stale);
         // the pass after it finds them.
@@ -246,9 +241,7 @@ ResolveStats resolve(const Track& track, const UniformGrid& grid, Broadphase bp,
         // gathered.
         if (s.quantize_state) {
             quantize_motion(position, velocity);
-            if (!cand.covers(position, query_radius)) {
-                gather_candidates(grid, track, bp, position, query_radius + kGatherMargin_m, cand);
-            }
+            keep_covered(grid, track, bp, position, query_radius, cand);
         }
     }
     if (stats.passes == s.resolver_passes) {

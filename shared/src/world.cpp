@@ -52,6 +52,17 @@ void ensure_scratch(std::size_t n, StepScratch& s) {
     }
 }
 
+// The contacts of car i where it is: kept from the last query if it was at
+// this very position (bit for bit), else found again.
+void ensure_contacts(const Scene& sc, StepScratch& scr, std::size_t i, const Vec3& position) {
+    if (scr.contacts_valid[i] && same(scr.contacts_at[i], position)) return;
+    Candidates& cand = scr.candidates[i];
+    keep_covered(sc.grid, sc.track, sc.broadphase, position, sc.physics.car_radius_m + sc.physics.contact_skin_m, cand);
+    find_contacts(sc.track, cand, sc.physics, position, scr.contacts[i]);
+    scr.contacts_at[i] = position;
+    scr.contacts_valid[i] = 1;
+}
+
 // Phase 1: sense contacts, apply controls and forces, integrate.
 void drive_phase(const Scene& sc, WorldState& st, std::span<const Input> inputs, StepScratch& scr) {
     const PhysicsSettings& ps = sc.physics;
@@ -81,11 +92,7 @@ void drive_phase(const Scene& sc, WorldState& st, std::span<const Input> inputs,
                                         : reach;
             gather_candidates(sc.grid, sc.track, sc.broadphase, car.position, gather_m, cand);
         }
-        if (!scr.contacts_valid[i] || !same(scr.contacts_at[i], car.position)) {
-            find_contacts(sc.track, cand, ps, car.position, scr.contacts[i]);
-            scr.contacts_at[i] = car.position;
-            scr.contacts_valid[i] = 1;
-        }
+        ensure_contacts(sc, scr, i, car.position);
         const Vec3 v0 = car.velocity;
         apply_controls_and_forces(ps, scr.contacts[i], in, car);
         integrate(ps, v0, car);
@@ -138,16 +145,7 @@ void rules_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
         CarState& car = st.cars[i];
         if (!car.active) continue;
         apply_race_rules(sc.track, ps, st.laps, st.tick, st.tick >= st.start_tick, scr.previous_position[i], car);
-        if (!scr.contacts_valid[i] || !same(scr.contacts_at[i], car.position)) {
-            Candidates& cand = scr.candidates[i];
-            const double reach = ps.car_radius_m + ps.contact_skin_m;
-            if (!cand.covers(car.position, reach)) {
-                gather_candidates(sc.grid, sc.track, sc.broadphase, car.position, reach + kGatherMargin_m, cand);
-            }
-            find_contacts(sc.track, cand, ps, car.position, scr.contacts[i]);
-            scr.contacts_at[i] = car.position;
-            scr.contacts_valid[i] = 1;
-        }
+        ensure_contacts(sc, scr, i, car.position);
         align_to_contacts(ps, scr.contacts[i], car);
         if (ps.quantize_state) quantize_orientation(car);
     }

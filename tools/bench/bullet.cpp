@@ -178,15 +178,19 @@ Excursions height_excursions(const Scene& sc, BulletScene& b, const Straight& s,
     return e;
 }
 
+// Prints the scenario's JSON line with both systems' timings (jetrace's
+// only when `theirs` is empty: --jetrace-only).
 void print(nlohmann::json& j, const std::vector<double>& ours, const std::vector<double>& theirs) {
     j["jetrace_ns_per_step"] = median(ours);
-    j["bullet_ns_per_step"] = median(theirs);
-    j["bullet_over_jetrace"] = median(theirs) / median(ours);
     // Bullet's runs are bimodal on a loaded machine; the fastest runs as well.
     j["jetrace_min_ns_per_step"] = *std::min_element(ours.begin(), ours.end());
-    j["bullet_min_ns_per_step"] = *std::min_element(theirs.begin(), theirs.end());
     j["jetrace_runs_ns"] = ours;
-    j["bullet_runs_ns"] = theirs;
+    if (!theirs.empty()) {
+        j["bullet_ns_per_step"] = median(theirs);
+        j["bullet_over_jetrace"] = median(theirs) / median(ours);
+        j["bullet_min_ns_per_step"] = *std::min_element(theirs.begin(), theirs.end());
+        j["bullet_runs_ns"] = theirs;
+    }
     std::printf("%s\n", j.dump().c_str());
     std::fflush(stdout);
 }
@@ -202,10 +206,7 @@ void straight_scenario(const char* name, const Straight& s, const BulletOptions&
     std::vector<double> ours, theirs;
     if (o.jetrace_only) {
         for (int r = 0; r < o.repeats; ++r) ours.push_back(jetrace_timed_run(sc, s, o.frames));
-        j["jetrace_ns_per_step"] = median(ours);
-        j["jetrace_runs_ns"] = ours;
-        std::printf("%s\n", j.dump().c_str());
-        std::fflush(stdout);
+        print(j, ours, theirs);
         return;
     }
     BulletScene b(sc.track, ps.car_radius_m, ps.gravity_mps2);

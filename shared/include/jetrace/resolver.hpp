@@ -68,6 +68,15 @@ inline constexpr double kGatherLookaheadMax_m = 50.0;
 void gather_candidates(const UniformGrid& grid, const Track& track, Broadphase bp, const Vec3& center,
                        double radius_m, Candidates& out);
 
+/// Gathers the candidates again around `p`, kGatherMargin_m wider, unless
+/// they already cover a sphere of `radius_m` there. True if it gathered.
+inline bool keep_covered(const UniformGrid& grid, const Track& track, Broadphase bp, const Vec3& p,
+                         double radius_m, Candidates& cand) {
+    if (cand.covers(p, radius_m)) return false;
+    gather_candidates(grid, track, bp, p, radius_m + kGatherMargin_m, cand);
+    return true;
+}
+
 /// Contacts within radius + skin of `center` among the candidates.
 void find_contacts(const Track& track, const Candidates& cand, const PhysicsSettings& s, const Vec3& center,
                    Contacts& out);
