@@ -50,6 +50,7 @@ void apply_race_rules(const Track& track, const PhysicsSettings& ps, std::int32_
 }
 
 void collide_cars(double radius_m, std::vector<CarState>& cars) {
+    if (cars.size() < 2) return;
     const double min_dist = 2.0 * radius_m;
     const double min2 = min_dist * min_dist;
     for (std::size_t i = 0; i < cars.size(); ++i) {

@@ -8,13 +8,6 @@
 
 namespace jetrace {
 
-bool Candidates::covers(const Vec3& p, double radius_m) const {
-    if (all) return true;
-    return p.x() - radius_m >= region.min.x() && p.x() + radius_m <= region.max.x() &&
-           p.y() - radius_m >= region.min.y() && p.y() + radius_m <= region.max.y() &&
-           p.z() - radius_m >= region.min.z() && p.z() + radius_m <= region.max.z();
-}
-
 void gather_candidates(const UniformGrid& grid, const Track& track, Broadphase bp, const Vec3& center,
                        double radius_m, Candidates& out) {
     out.region = Aabb::around(center, radius_m);

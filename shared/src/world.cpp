@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cstdio>
+#include <cstring>
 
 namespace jetrace {
 
@@ -39,28 +40,53 @@ void remove_car(WorldState& state, int slot) { state.cars[static_cast<std::size_
 
 namespace {
 
-void ensure_scratch(std::size_t n, StepScratch& s) {
-    if (s.candidates.size() != n) {
-        s.candidates.resize(n);
-        s.contacts.resize(n);
-        s.contacts_at.resize(n);
-        s.contacts_valid.assign(n, 0);
-        s.previous_position.resize(n);
-        s.clear_at.resize(n);
-        s.clear_valid.assign(n, 0);
-        s.pushed_last.assign(n, 0);
-    }
+// Sizes the scratch for n cars (out of line: it runs once per car count).
+[[gnu::noinline]] void resize_scratch(std::size_t n, StepScratch& s) {
+    s.candidates.resize(n);
+    s.contacts.resize(n);
+    s.contacts_at.resize(n);
+    s.contacts_valid.assign(n, 0);
+    s.previous_position.resize(n);
+    s.clear_at.resize(n);
+    s.clear_valid.assign(n, 0);
+    s.pushed_last.assign(n, 0);
+    s.quantized_orientation.resize(n);
+    s.quantized_valid.assign(n, 0);
 }
 
-// The contacts of car i where it is: kept from the last query if it was at
-// this very position (bit for bit), else found again.
-void ensure_contacts(const Scene& sc, StepScratch& scr, std::size_t i, const Vec3& position) {
-    if (scr.contacts_valid[i] && same(scr.contacts_at[i], position)) return;
+inline void ensure_scratch(std::size_t n, StepScratch& s) {
+    if (s.candidates.size() != n) resize_scratch(n, s);
+}
+
+// Finds the contacts of car i at `position` (ensure_contacts' slow path,
+// out of line so that the common case, the contacts already known, costs a
+// comparison and no call).
+[[gnu::noinline]] void find_contacts_at(const Scene& sc, StepScratch& scr, std::size_t i, const Vec3& position) {
     Candidates& cand = scr.candidates[i];
     keep_covered(sc.grid, sc.track, sc.broadphase, position, sc.physics.car_radius_m + sc.physics.contact_skin_m, cand);
     find_contacts(sc.track, cand, sc.physics, position, scr.contacts[i]);
     scr.contacts_at[i] = position;
     scr.contacts_valid[i] = 1;
+}
+
+// The contacts of car i where it is: kept from the last query if it was at
+// this very position (bit for bit), else found again.
+inline void ensure_contacts(const Scene& sc, StepScratch& scr, std::size_t i, const Vec3& position) {
+    if (scr.contacts_valid[i] && same(scr.contacts_at[i], position)) return;
+    find_contacts_at(sc, scr, i, position);
+}
+
+// Rounds car i's orientation to the wire resolution, unless it is bit for
+// bit what the last rounding produced (rounding is idempotent: a car that
+// did not turn this step keeps its bits).
+void quantize_orientation_cached(StepScratch& scr, std::size_t i, CarState& car) {
+    if (scr.quantized_valid[i] &&
+        std::memcmp(scr.quantized_orientation[i].coeffs().data(), car.orientation.coeffs().data(), 4 * sizeof(double)) == 0) {
+        return;
+    }
+    quantize_orientation(car);
+    scr.quantized_orientation[i] = car.orientation;
+    scr.quantized_valid[i] = 1;
 }
 
 // Phase 1: sense contacts, apply controls and forces, integrate.
@@ -147,7 +173,7 @@ void rules_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
         apply_race_rules(sc.track, ps, st.laps, st.tick, st.tick >= st.start_tick, scr.previous_position[i], car);
         ensure_contacts(sc, scr, i, car.position);
         align_to_contacts(ps, scr.contacts[i], car);
-        if (ps.quantize_state) quantize_orientation(car);
+        if (ps.quantize_state) quantize_orientation_cached(scr, i, car);
     }
 }
 

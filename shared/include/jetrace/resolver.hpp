@@ -38,7 +38,12 @@ struct Candidates {
     bool all = false;  // brute force: every triangle
 
     /// True if a sphere of `radius_m` at `p` is inside the gathered region.
-    bool covers(const Vec3& p, double radius_m) const;
+    bool covers(const Vec3& p, double radius_m) const {
+        if (all) return true;
+        return p.x() - radius_m >= region.min.x() && p.x() + radius_m <= region.max.x() &&
+               p.y() - radius_m >= region.min.y() && p.y() + radius_m <= region.max.y() &&
+               p.z() - radius_m >= region.min.z() && p.z() + radius_m <= region.max.z();
+    }
     /// False if the k-th candidate's box is farther than `reach_m` from `p`
     /// along an axis: it cannot come within `reach_m` of `p`.
     bool may_touch(std::size_t k, const Vec3& p, double reach_m) const {

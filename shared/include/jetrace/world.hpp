@@ -56,6 +56,10 @@ struct StepScratch {
     /// Whether each car was pushed out in its last resolve (a hint that
     /// saves work, never changes a result; see resolve()).
     std::vector<std::uint8_t> pushed_last;
+    /// The orientation each car's last rounding produced: a car found with
+    /// exactly these bits (one that did not turn) needs no rounding.
+    std::vector<Quat> quantized_orientation;
+    std::vector<std::uint8_t> quantized_valid;
     /// Push-outs, most pushing passes of one car, and capped resolves in the
     /// last step (diagnostics).
     int pushes = 0;
