@@ -121,7 +121,7 @@ bool ranges_overlap(const CellRange& a, const CellRange& b) {
 // the bounds, a few with NaN): for_each_candidate reports exactly the
 // triangles whose bucket overlaps the box's cell range, each once, in
 // ascending (owner cell, triangle) order; cell_range agrees with the
-// written-out bucketing.
+// written-out bucketing; any_candidate stops at the first match of that walk.
 void sparse_grid_matches_brute_force(const Track& track, const UniformGrid& grid, const Aabb& grid_bounds,
                                      std::mt19937_64& rng, int queries, int min_nonempty) {
     const Bucketing ref{grid_bounds, 1.0 / grid.cell_size_m(), grid.dims()};
@@ -184,6 +184,21 @@ void sparse_grid_matches_brute_force(const Track& track, const UniformGrid& grid
             ADD_FAILURE() << "query " << i << " box " << str(box.min) << str(box.max) << ": grid reported "
                           << got.size() << " (" << (unique ? "unique" : "with duplicates") << ", "
                           << (ordered ? "in order" : "out of order") << "), brute force " << want.size();
+        }
+        // any_candidate walks the same sequence and stops at the first match.
+        const std::uint32_t mod = 2 + static_cast<std::uint32_t>(i % 5);
+        const auto match = [&](std::uint32_t t) { return t % mod == 0; };
+        const auto first = std::find_if(got.begin(), got.end(), match);
+        std::vector<std::uint32_t> walked;
+        const bool any = grid.any_candidate(box, [&](std::uint32_t t) {
+            walked.push_back(t);
+            return match(t);
+        });
+        const std::vector<std::uint32_t> prefix(got.begin(), first == got.end() ? got.end() : first + 1);
+        if (any != (first != got.end()) || walked != prefix) {
+            ++failures;
+            ADD_FAILURE() << "query " << i << ": any_candidate walked " << walked.size() << " and found " << any
+                          << ", for_each_candidate's prefix is " << prefix.size();
         }
         nonempty += want.empty() ? 0 : 1;
     }

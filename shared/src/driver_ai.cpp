@@ -7,17 +7,16 @@ namespace jetrace {
 
 namespace {
 
-// True if any triangle is within the contact skin of the sphere at `p`.
+// True if any triangle is within the contact skin of the sphere at `p`: the
+// test find_contacts() makes (a triangle beyond the reach of its plane or
+// of an edge is rejected before its closest point is computed).
 bool touches_track(const Scene& sc, const Vec3& p) {
     const double reach = sc.physics.car_radius_m + sc.physics.contact_skin_m;
     const double reach2 = reach * reach;
-    bool touching = false;
-    sc.grid.for_each_candidate(Aabb::around(p, reach), [&](std::uint32_t i) {
-        if (touching) return;
-        const Vec3 q = closest_point_on_triangle(p, sc.track.triangles[i]).point;
-        if ((p - q).squaredNorm() < reach2) touching = true;
+    return sc.grid.any_candidate(Aabb::around(p, reach), [&](std::uint32_t i) {
+        ClosestPoint cp;
+        return closest_point_within(p, sc.track.triangles[i], reach, cp) && (p - cp.point).squaredNorm() < reach2;
     });
-    return touching;
 }
 
 Vec3 in_plane(const Vec3& v, const Vec3& n) { return v - n * v.dot(n); }

@@ -46,6 +46,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 namespace jetrace {
@@ -94,6 +95,8 @@ public:
     /// A box covering more cells than are occupied (a huge reach, e.g. from
     /// an absurd velocity) walks the occupied cells instead, in the same
     /// (key) order: the cost is bounded by the grid's size, never by the box.
+    ///
+    /// f may return bool: false stops the walk (any_candidate()).
     template <class F>
     void for_each_candidate(const Aabb& box, F&& f) const {
         CellRange q;
@@ -107,16 +110,27 @@ public:
                 const auto y = static_cast<std::int32_t>((key / dx) % dy);
                 const auto z = static_cast<std::int32_t>(key / dx / dy);
                 if (x < q.lo[0] || x > q.hi[0] || y < q.lo[1] || y > q.hi[1] || z < q.lo[2] || z > q.hi[2]) continue;
-                visit_cell(cells_[c], q, x, y, z, f);
+                if (!visit_cell(cells_[c], q, x, y, z, f)) return;
             }
             return;
         }
         for (std::int32_t z = q.lo[2]; z <= q.hi[2]; ++z) {
             for (std::int32_t y = q.lo[1]; y <= q.hi[1]; ++y) {
                 const std::uint64_t row = (u64(z) * u64(dims_[1]) + u64(y)) * u64(dims_[0]);
-                for (std::int32_t x = q.lo[0]; x <= q.hi[0]; ++x) visit_cell(cells_[find(row + u64(x))], q, x, y, z, f);
+                for (std::int32_t x = q.lo[0]; x <= q.hi[0]; ++x) {
+                    if (!visit_cell(cells_[find(row + u64(x))], q, x, y, z, f)) return;
+                }
             }
         }
+    }
+
+    /// True if pred(triangle_index) holds for a candidate of `box` (the walk
+    /// of for_each_candidate, stopped at the first).
+    template <class P>
+    bool any_candidate(const Aabb& box, P&& pred) const {
+        bool found = false;
+        for_each_candidate(box, [&](std::uint32_t t) { return !(found = pred(t)); });
+        return found;
     }
 
     double cell_size_m() const { return cell_; }
@@ -157,9 +171,9 @@ private:
         }
     }
     // Reports the triangles of cell (x, y, z) whose owner cell, for query
-    // range q, is this one.
+    // range q, is this one. False if f asked to stop.
     template <class F>
-    void visit_cell(const Cell& cell, const CellRange& q, std::int32_t x, std::int32_t y, std::int32_t z,
+    bool visit_cell(const Cell& cell, const CellRange& q, std::int32_t x, std::int32_t y, std::int32_t z,
                     F& f) const {
         for (std::uint32_t k = cell.begin; k < cell.end; ++k) {
             const std::uint32_t tri = items_[k];
@@ -168,8 +182,14 @@ private:
             const std::int32_t ox = r.x > q.lo[0] ? r.x : q.lo[0];
             const std::int32_t oy = r.y > q.lo[1] ? r.y : q.lo[1];
             const std::int32_t oz = r.z > q.lo[2] ? r.z : q.lo[2];
-            if (ox == x && oy == y && oz == z) f(tri);
+            if (ox != x || oy != y || oz != z) continue;
+            if constexpr (std::is_same_v<std::invoke_result_t<F&, std::uint32_t>, bool>) {
+                if (!f(tri)) return false;
+            } else {
+                f(tri);
+            }
         }
+        return true;
     }
     std::int32_t coord(double v, int axis) const {
         const double c = std::floor((v - origin_[axis]) * inv_cell_);
