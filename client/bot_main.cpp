@@ -1,6 +1,8 @@
 // jetrace-bot: K AI drivers, each its own client and ENet connection. A
 // dropped bot reconnects to its car within --reconnect-grace; with connect
-// tokens (--token, --token-file) it joins a private race.
+// tokens (--token, --token-file) it joins a private race. The server's
+// Welcome names its track; each bot races on the built-in track (or the
+// --track file) with the same identity.
 #include "jetrace/auth/connect_token.hpp"
 #include "jetrace/builtin_tracks.hpp"
 #include "jetrace/client/race_client.hpp"
@@ -66,6 +68,7 @@ int main(int argc, char** argv) {
     double max_seconds = 3600;
     std::uint64_t seed = 1;
     double reconnect_grace_s = 10.0;
+    double join_window_s = 10.0;
     std::vector<std::string> token_texts;
     std::string token_file;
     app.add_option("--connect", connect, "server address HOST:PORT")->required();
@@ -80,6 +83,9 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0.01, 100.0));
     app.add_option("--max-seconds", max_seconds, "give up after this many wall-clock seconds")
         ->check(CLI::Range(1.0, 1e7));
+    app.add_option("--join-window", join_window_s,
+                   "if the connection fails before the welcome, keep trying to join this long (s; 0: never)")
+        ->check(CLI::Range(0.0, 3600.0));
     app.add_option("--reconnect-grace", reconnect_grace_s,
                    "after a drop, try to get the car back this long (s; the server's --reconnect-grace; 0: never)")
         ->check(CLI::Range(0.0, 3600.0));
@@ -114,16 +120,11 @@ int main(int argc, char** argv) {
             return 2;
         }
         count = static_cast<int>(tokens.size());
-        if (track_spec.empty()) {
-            std::fprintf(stderr,
-                         "jetrace-bot: connect tokens need --track (the track probe would spend a token)\n");
-            return 2;
-        }
     }
 
-    // The track comes from the server's Welcome for built-in tracks; an OBJ
-    // track must be given so the bots can load the same file. Build every
-    // candidate scene up front, pick by identity after the welcome.
+    // The server's Welcome names its track: a bot races on the built-in
+    // track with the same identity, or on the --track file (only that one
+    // when given, so that a bot never joins a race on another track).
     std::vector<std::unique_ptr<jetrace::Scene>> scenes;
     const jetrace::PhysicsSettings physics;
     if (!track_spec.empty()) {
@@ -133,12 +134,15 @@ int main(int argc, char** argv) {
             return 2;
         }
         scenes.push_back(std::make_unique<jetrace::Scene>(jetrace::Scene::make(std::move(t), physics)));
+    } else {
+        for (const std::string& name : jetrace::builtin_track_names()) {
+            jetrace::Track t;
+            jetrace::make_builtin_track(name, t);
+            scenes.push_back(std::make_unique<jetrace::Scene>(jetrace::Scene::make(std::move(t), physics)));
+        }
     }
-    for (const std::string& name : jetrace::builtin_track_names()) {
-        jetrace::Track t;
-        jetrace::make_builtin_track(name, t);
-        scenes.push_back(std::make_unique<jetrace::Scene>(jetrace::Scene::make(std::move(t), physics)));
-    }
+    jetrace::client::KnownScenes known;
+    for (const auto& sc : scenes) known.push_back(sc.get());
     struct Bot {
         std::unique_ptr<jetrace::client::RaceClient> client;
         std::string name;
@@ -153,62 +157,6 @@ int main(int argc, char** argv) {
         return static_cast<std::uint64_t>(std::chrono::duration<double, std::micro>(Clock::now() - start).count() *
                                           time_scale);
     };
-    const jetrace::Scene* scene = scenes.front().get();
-    if (track_spec.empty()) {
-        // Probe: the first bot's welcome names the track; the built-in one
-        // with the same identity is chosen.
-        scene = nullptr;
-        auto probe = jetrace::net::connect_enet(host, port, 5000, error);
-        if (!probe) {
-            std::fprintf(stderr, "jetrace-bot: %s\n", error.c_str());
-            return 1;
-        }
-        std::vector<jetrace::net::Event> ev;
-        const auto deadline = Clock::now() + std::chrono::seconds(10);
-        jetrace::proto::Welcome welcome;
-        bool got = false, refused = false;
-        while (!got && !refused && Clock::now() < deadline) {
-            ev.clear();
-            probe->service(now_us() / 1000, ev);
-            for (const auto& e : ev) {
-                if (e.type == jetrace::net::Event::Type::connected) {
-                    jetrace::proto::Hello h;
-                    h.name = prefix + "-probe";
-                    probe->send(0, jetrace::net::Channel::reliable, jetrace::proto::encode(h));
-                } else if (e.type == jetrace::net::Event::Type::received) {
-                    jetrace::proto::Message m;
-                    if (jetrace::proto::decode(e.data, m, error)) {
-                        if (auto* w = std::get_if<jetrace::proto::Welcome>(&m)) welcome = *w, got = true;
-                        if (auto* r = std::get_if<jetrace::proto::Refuse>(&m)) {
-                            std::fprintf(stderr, "jetrace-bot: refused: %s\n", r->reason.c_str());
-                            refused = true;
-                        }
-                    }
-                } else if (e.type == jetrace::net::Event::Type::disconnected) {
-                    refused = true;
-                }
-            }
-            probe->flush();
-            std::this_thread::sleep_for(std::chrono::milliseconds(1));
-        }
-        probe->send(0, jetrace::net::Channel::reliable, jetrace::proto::encode(jetrace::proto::Goodbye{"probe done"}));
-        probe->disconnect(0);
-        probe->flush();
-        probe.reset();
-        if (!got) {
-            std::fprintf(stderr, "jetrace-bot: no welcome from %s\n", connect.c_str());
-            return 1;
-        }
-        for (const auto& s : scenes) {
-            if (s->track.identity() == welcome.track_identity) scene = s.get();
-        }
-        if (!scene) {
-            std::fprintf(stderr, "jetrace-bot: the server runs track '%s', which is not built in: pass --track FILE.obj\n",
-                         welcome.track_name.c_str());
-            return 2;
-        }
-    }
-
     for (int i = 0; i < count; ++i) {
         Bot b;
         b.name = prefix + std::to_string(i);
@@ -220,7 +168,8 @@ int main(int argc, char** argv) {
         }
         cc.name = b.name;
         cc.reconnect_window_s = reconnect_grace_s;
-        b.client = std::make_unique<jetrace::client::RaceClient>(cc, *scene, [&host, port] {
+        cc.join_window_s = join_window_s;
+        b.client = std::make_unique<jetrace::client::RaceClient>(cc, known, [&host, port] {
             std::string e;
             auto t = jetrace::net::connect_enet(host, static_cast<std::uint16_t>(port), 5000, e);
             if (!t) spdlog::error("cannot connect: {}", e);
@@ -250,6 +199,13 @@ int main(int argc, char** argv) {
         }
         if (std::chrono::duration<double>(Clock::now() - start).count() > max_seconds) break;
         std::this_thread::sleep_for(std::chrono::microseconds(500));
+    }
+    for (const Bot& b : bots) {
+        if (track_spec.empty() && b.client->close_reason().starts_with("track mismatch")) {
+            std::fprintf(stderr,
+                         "jetrace-bot: the server races on a track that is not built in: pass --track FILE.obj\n");
+            break;
+        }
     }
     // Rates per simulated second (wall time scaled by --time-scale).
     const double wall_s = std::chrono::duration<double>(Clock::now() - start).count() * time_scale;

@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 namespace jetrace::client {
@@ -24,23 +25,27 @@ Input known_input(const proto::WorldSnapshot& snap, std::size_t slot, std::uint3
 }
 }  // namespace
 
-RaceClient::RaceClient(const ClientConfig& config, const Scene& scene, net::Transport& transport)
-    : config_(config), scene_(scene), transport_(&transport) {
-    tick_us_ = 1e6 / scene.physics.tick_rate_hz;
-    my_input_ticks_.fill(proto::kNoTick);
-    my_state_ticks_.fill(proto::kNoTick);
-    for (auto& r : received_) r.first = proto::kNoTick;
+RaceClient::RaceClient(const ClientConfig& config, KnownScenes scenes, net::Transport& transport)
+    : config_(config), scenes_(std::move(scenes)), transport_(&transport) {
+    init();
 }
 
-RaceClient::RaceClient(const ClientConfig& config, const Scene& scene, Connector connect)
-    : config_(config), scene_(scene), connector_(std::move(connect)) {
-    tick_us_ = 1e6 / scene.physics.tick_rate_hz;
-    my_input_ticks_.fill(proto::kNoTick);
-    my_state_ticks_.fill(proto::kNoTick);
-    for (auto& r : received_) r.first = proto::kNoTick;
+RaceClient::RaceClient(const ClientConfig& config, KnownScenes scenes, Connector connect)
+    : config_(config), scenes_(std::move(scenes)), connector_(std::move(connect)) {
+    init();
     owned_ = connector_ ? connector_() : nullptr;
     transport_ = owned_.get();
     if (!transport_) close("cannot open a connection");
+}
+
+void RaceClient::init() {
+    assert(!scenes_.empty());
+    for (const Scene* s : scenes_) identities_.push_back(s->track.identity());
+    scene_ = scenes_.front();
+    tick_us_ = 1e6 / scene_->physics.tick_rate_hz;
+    my_input_ticks_.fill(proto::kNoTick);
+    my_state_ticks_.fill(proto::kNoTick);
+    for (auto& r : received_) r.first = proto::kNoTick;
 }
 
 double RaceClient::rtt_ms() const { return transport_ ? transport_->peer_stats(0).rtt_ms : 0.0; }
@@ -87,6 +92,13 @@ void RaceClient::on_event(const net::Event& e) {
                 dropped_at_us_ = now_us_;
                 next_attempt_us_ = now_us_;
                 need_connection_ = true;
+            } else if (may_rejoin()) {
+                spdlog::info("{}: connection lost before the welcome; joining again", config_.name);
+                state_ = ClientState::reconnecting;
+                rejoining_ = true;
+                dropped_at_us_ = now_us_;
+                next_attempt_us_ = now_us_ + static_cast<std::uint64_t>(config_.reconnect_retry_s * 1e6);
+                need_connection_ = true;
             } else {
                 close(close_reason_.empty() ? "disconnected" : close_reason_);
             }
@@ -108,17 +120,25 @@ void RaceClient::on_message(const proto::Message& m) {
     if (const auto* w = std::get_if<proto::Welcome>(&m)) {
         if (state_ != ClientState::waiting_welcome && state_ != ClientState::reconnecting) {
             spdlog::warn("{}: ignoring an unexpected second welcome", config_.name);
-        } else if (w->track_identity != scene_.track.identity()) {
+            return;
+        }
+        const auto known = std::find(identities_.begin(), identities_.end(), w->track_identity);
+        const Scene* chosen =
+            known == identities_.end() ? nullptr : scenes_[static_cast<std::size_t>(known - identities_.begin())];
+        if (chosen == nullptr) {
             leave("track mismatch: the server races on '" + w->track_name + "', which differs from ours");
-        } else if (w->physics_hash != proto::physics_hash(scene_.physics) ||
-                   w->tick_rate_hz != scene_.physics.tick_rate_hz) {
+        } else if (w->physics_hash != proto::physics_hash(chosen->physics) ||
+                   w->tick_rate_hz != chosen->physics.tick_rate_hz) {
             leave("physics settings differ from the server's");
         } else {
-            if (state_ == ClientState::reconnecting) {
+            scene_ = chosen;
+            tick_us_ = 1e6 / chosen->physics.tick_rate_hz;
+            if (state_ == ClientState::reconnecting && !rejoining_) {
                 ++stats_.reconnects;
                 reset_world();  // the server's world went on without us
                 if (w->slot != slot_) spdlog::warn("{}: reconnected to slot {}, not {}", config_.name, w->slot, slot_);
             }
+            rejoining_ = false;
             slot_ = w->slot;
             snapshot_rate_hz_ = std::max<int>(1, w->snapshot_rate_hz);
             reconnect_token_ = w->reconnect_token;
@@ -217,10 +237,16 @@ bool RaceClient::may_reconnect() const {
            reconnect_token_.size() == proto::kTokenBytes && config_.reconnect_window_s > 0 && close_reason_.empty();
 }
 
+bool RaceClient::may_rejoin() const {
+    return connector_ && (state_ == ClientState::connecting || state_ == ClientState::waiting_welcome) &&
+           config_.join_window_s > 0 && close_reason_.empty();
+}
+
 void RaceClient::reconnect_step() {
-    const auto window_us = static_cast<std::uint64_t>(config_.reconnect_window_s * 1e6);
-    if (now_us_ - dropped_at_us_ > window_us) {
-        close("disconnected: could not reconnect within " + std::to_string(config_.reconnect_window_s) + " s");
+    const double window_s = rejoining_ ? config_.join_window_s : config_.reconnect_window_s;
+    if (now_us_ - dropped_at_us_ > static_cast<std::uint64_t>(window_s * 1e6)) {
+        close(std::string("disconnected: could not ") + (rejoining_ ? "join" : "reconnect") + " within " +
+              std::to_string(window_s) + " s");
         return;
     }
     if (!need_connection_ || now_us_ < next_attempt_us_) return;
@@ -272,7 +298,7 @@ void RaceClient::reconcile(const proto::WorldSnapshot& snap) {
         if (my_input_ticks_[t % kRing] == t) step_inputs_[own] = my_inputs_[t % kRing];
         my_states_[t % kRing] = w.cars[own];
         my_state_ticks_[t % kRing] = t;
-        step(scene_, w, step_inputs_, scratch_);
+        step(*scene_, w, step_inputs_, scratch_);
     }
     predicted_ = std::move(w);
     visual_offset_ += before - predicted_.cars[own].position;
@@ -299,7 +325,7 @@ void RaceClient::run_tick(const InputSource& input) {
     const std::uint32_t t = predicted_.tick;
     const auto own = static_cast<std::size_t>(slot_);
     Input mine{};
-    if (!spectating_ && predicted_.cars[own].active && input) mine = input(scene_, predicted_, slot_);
+    if (!spectating_ && predicted_.cars[own].active && input) mine = input(*scene_, predicted_, slot_);
     my_inputs_[t % kRing] = mine;
     my_input_ticks_[t % kRing] = t;
     my_states_[t % kRing] = predicted_.cars[own];
@@ -307,7 +333,7 @@ void RaceClient::run_tick(const InputSource& input) {
     step_inputs_.assign(predicted_.cars.size(), Input{});
     for (std::size_t s = 0; s < predicted_.cars.size(); ++s) step_inputs_[s] = known_input(latest_, s, t);
     step_inputs_[own] = mine;
-    step(scene_, predicted_, step_inputs_, scratch_);
+    step(*scene_, predicted_, step_inputs_, scratch_);
     visual_offset_ *= 1.0 - config_.smoothing_per_tick;
 }
 
@@ -371,7 +397,7 @@ Vec3 RaceClient::visual_position(int slot) const {
     if (s >= latest_.state.cars.size() || newest_snapshot_tick_ == proto::kNoTick) return Vec3::Zero();
     // The render tick trails the newest snapshot by the interpolation delay,
     // advancing with the client's clock between snapshots.
-    const double interval = static_cast<double>(scene_.physics.tick_rate_hz) / snapshot_rate_hz_;
+    const double interval = static_cast<double>(scene_->physics.tick_rate_hz) / snapshot_rate_hz_;
     const double since = static_cast<double>(now_us_ - latest_at_us_) / tick_us_;
     const double render = newest_snapshot_tick_ + since - config_.interpolation_snapshots * interval;
     // The two stored snapshots around the render tick.

@@ -42,8 +42,13 @@ struct ClientConfig {
     /// server's reconnect grace. Needs the Connector constructor; 0: never
     /// (unit: s).
     double reconnect_window_s = 10.0;
-    /// Pause between two reconnect attempts that could not start (unit: s).
+    /// Pause between two reconnect or join attempts (unit: s).
     double reconnect_retry_s = 0.5;
+    /// If the connection fails or drops before the Welcome (the server not
+    /// up yet, a handshake lost on a bad link) without a Refuse or Goodbye,
+    /// keep trying to join this long after the first failure. Needs the
+    /// Connector constructor; 0: never (unit: s).
+    double join_window_s = 10.0;
     /// Hello.connect_token: a signed connect token for a private race
     /// (jetrace-token issue), or empty (unit: bytes).
     std::vector<std::uint8_t> connect_token;
@@ -72,13 +77,22 @@ using InputSource = std::function<Input(const Scene& scene, const WorldState& pr
 /// Opens a new connection to the server (nullptr: cannot right now).
 using Connector = std::function<std::unique_ptr<net::Transport>()>;
 
+/// The tracks a client can race on (each outlives the client; at least one).
+/// The server's Welcome names its track by identity: the client races on the
+/// one that matches, and leaves if none does.
+using KnownScenes = std::vector<const Scene*>;
+
 class RaceClient {
 public:
     /// Over the caller's transport; no reconnects.
-    RaceClient(const ClientConfig& config, const Scene& scene, net::Transport& transport);
+    RaceClient(const ClientConfig& config, KnownScenes scenes, net::Transport& transport);
+    RaceClient(const ClientConfig& config, const Scene& scene, net::Transport& transport)
+        : RaceClient(config, KnownScenes{&scene}, transport) {}
     /// Connects through `connect` now, and again after a drop to take its
     /// car back (docs/PROTOCOL.md, "Reconnecting").
-    RaceClient(const ClientConfig& config, const Scene& scene, Connector connect);
+    RaceClient(const ClientConfig& config, KnownScenes scenes, Connector connect);
+    RaceClient(const ClientConfig& config, const Scene& scene, Connector connect)
+        : RaceClient(config, KnownScenes{&scene}, std::move(connect)) {}
 
     /// Handles the network and runs the prediction ticks due by `now_us`.
     void update(std::uint64_t now_us, const InputSource& input);
@@ -86,6 +100,9 @@ public:
     void leave(const std::string& reason);
 
     ClientState state() const { return state_; }
+    /// The track being raced: the one the Welcome named (before it, the
+    /// first known one).
+    const Scene& scene() const { return *scene_; }
     /// Why the client closed (refusal, goodbye, disconnect, error).
     const std::string& close_reason() const { return close_reason_; }
     int slot() const { return slot_; }
@@ -118,6 +135,7 @@ public:
 private:
     static constexpr std::size_t kRing = 256;
 
+    void init();
     void on_event(const net::Event& e);
     void on_message(const proto::Message& m);
     void on_snapshot(const proto::Snapshot& s);
@@ -130,10 +148,13 @@ private:
     /// Forgets the prediction and snapshots: the next snapshot restarts them.
     void reset_world();
     bool may_reconnect() const;
+    bool may_rejoin() const;
     void reconnect_step();
 
     ClientConfig config_;
-    const Scene& scene_;
+    KnownScenes scenes_;
+    std::vector<std::uint64_t> identities_;  // Track::identity() of each
+    const Scene* scene_ = nullptr;
     Connector connector_;
     std::unique_ptr<net::Transport> owned_;  // with a Connector
     net::Transport* transport_ = nullptr;
@@ -142,6 +163,7 @@ private:
     std::uint64_t dropped_at_us_ = 0;
     std::uint64_t next_attempt_us_ = 0;
     bool need_connection_ = false;
+    bool rejoining_ = false;  // reconnecting state, but with no slot to take back
     ClientState state_ = ClientState::connecting;
     std::string close_reason_;
     int slot_ = -1;
