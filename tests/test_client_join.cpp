@@ -1,0 +1,218 @@
+// RaceClient's joining, over scripted transports (no network, no clock):
+// the Welcome picks the track among the client's known scenes, and a
+// connection that fails before the Welcome joins again within
+// ClientConfig::join_window_s, while a refusal is final.
+#include "jetrace/builtin_tracks.hpp"
+#include "jetrace/client/race_client.hpp"
+#include "jetrace/proto/messages.hpp"
+
+#include <gtest/gtest.h>
+
+#include <deque>
+#include <memory>
+#include <vector>
+
+namespace {
+
+using namespace jetrace;
+using client::ClientState;
+
+// A transport that hands out the events a test queues and keeps what the
+// client sends.
+class ScriptedTransport final : public net::Transport {
+public:
+    std::deque<net::Event> pending;
+    std::vector<proto::Message> sent;
+    bool disconnected = false;
+
+    void service(std::uint64_t /*now_ms*/, std::vector<net::Event>& events) override {
+        while (!pending.empty()) {
+            events.push_back(std::move(pending.front()));
+            pending.pop_front();
+        }
+    }
+    bool send(net::PeerId, net::Channel, std::span<const std::uint8_t> data) override {
+        proto::Message m;
+        std::string error;
+        EXPECT_TRUE(proto::decode(data, m, error)) << error;
+        sent.push_back(m);
+        return true;
+    }
+    void disconnect(net::PeerId) override { disconnected = true; }
+    void flush() override {}
+    net::PeerStats peer_stats(net::PeerId) const override { return {}; }
+    net::Totals totals() const override { return {}; }
+    std::uint16_t local_port() const override { return 0; }
+
+    void connect() { pending.push_back({net::Event::Type::connected, 0, net::Channel::reliable, {}}); }
+    void drop() { pending.push_back({net::Event::Type::disconnected, 0, net::Channel::reliable, {}}); }
+    void deliver(const proto::Message& m) {
+        pending.push_back({net::Event::Type::received, 0, net::Channel::reliable, proto::encode(m)});
+    }
+};
+
+struct Tracks {
+    Scene stadium = Scene::make(make_oval(stadium_params()), PhysicsSettings{});
+    Scene ring = Scene::make(make_oval(ring_params()), PhysicsSettings{});
+};
+
+const Tracks& tracks() {
+    static const Tracks t;
+    return t;
+}
+
+proto::Welcome welcome_for(const Scene& sc, std::uint8_t slot) {
+    proto::Welcome w;
+    w.slot = slot;
+    w.max_players = 8;
+    w.tick_rate_hz = static_cast<std::uint16_t>(sc.physics.tick_rate_hz);
+    w.track_name = "a track";
+    w.track_identity = sc.track.identity();
+    w.physics_hash = proto::physics_hash(sc.physics);
+    w.reconnect_token.assign(proto::kTokenBytes, 7);
+    return w;
+}
+
+Input no_input(const Scene&, const WorldState&, int) { return Input{}; }
+
+// A client over a Connector that hands out the transports of `script` in
+// order (nullptr once they run out: "cannot connect right now").
+struct Joiner {
+    std::vector<ScriptedTransport*> opened;
+    std::unique_ptr<client::RaceClient> client;
+    std::uint64_t now_us = 0;
+
+    Joiner(const client::ClientConfig& cc, const client::KnownScenes& scenes, int transports) {
+        auto remaining = std::make_shared<int>(transports);
+        client = std::make_unique<client::RaceClient>(cc, scenes, [this, remaining]() -> std::unique_ptr<net::Transport> {
+            if (*remaining == 0) return nullptr;
+            --*remaining;
+            auto t = std::make_unique<ScriptedTransport>();
+            opened.push_back(t.get());
+            return t;
+        });
+    }
+    ScriptedTransport& last() { return *opened.back(); }
+    void run_for(double seconds) {
+        for (const std::uint64_t end = now_us + static_cast<std::uint64_t>(seconds * 1e6); now_us < end;) {
+            now_us += 10000;
+            client->update(now_us, no_input);
+        }
+    }
+};
+
+TEST(ClientJoin, TheWelcomePicksTheKnownTrack) {
+    for (const Scene* expected : {&tracks().stadium, &tracks().ring}) {
+        ScriptedTransport t;
+        client::RaceClient c(client::ClientConfig{}, client::KnownScenes{&tracks().stadium, &tracks().ring}, t);
+        t.connect();
+        c.update(1000, no_input);
+        ASSERT_EQ(c.state(), ClientState::waiting_welcome);
+        ASSERT_EQ(t.sent.size(), 1u);
+        EXPECT_TRUE(std::holds_alternative<proto::Hello>(t.sent[0]));
+        t.deliver(welcome_for(*expected, 3));
+        c.update(2000, no_input);
+        EXPECT_EQ(c.state(), ClientState::in_lobby);
+        EXPECT_EQ(c.slot(), 3);
+        EXPECT_EQ(&c.scene(), expected);
+    }
+}
+
+TEST(ClientJoin, AnUnknownTrackOrOtherPhysicsLeaves) {
+    Scene other = Scene::make(make_oval(ring_params()), [] {
+        PhysicsSettings p;
+        p.grip_mps2 *= 2.0;
+        return p;
+    }());
+    struct Case {
+        proto::Welcome welcome;
+        const char* reason;
+    };
+    proto::Welcome unknown = welcome_for(tracks().stadium, 0);
+    unknown.track_identity ^= 1;
+    for (const Case& k : {Case{unknown, "track mismatch"}, Case{welcome_for(other, 0), "physics settings differ"}}) {
+        ScriptedTransport t;
+        client::RaceClient c(client::ClientConfig{}, client::KnownScenes{&tracks().stadium, &tracks().ring}, t);
+        t.connect();
+        t.deliver(k.welcome);
+        c.update(1000, no_input);
+        EXPECT_EQ(c.state(), ClientState::closed);
+        EXPECT_EQ(c.close_reason().rfind(k.reason, 0), 0u) << c.close_reason();
+        EXPECT_TRUE(t.disconnected);
+        ASSERT_FALSE(t.sent.empty());
+        EXPECT_TRUE(std::holds_alternative<proto::Goodbye>(t.sent.back()));
+    }
+}
+
+TEST(ClientJoin, AConnectionLostBeforeTheWelcomeJoinsAgain) {
+    client::ClientConfig cc;
+    cc.join_window_s = 5.0;
+    cc.reconnect_retry_s = 0.5;
+    Joiner j(cc, {&tracks().ring}, 3);
+    ASSERT_EQ(j.opened.size(), 1u);
+    // The first attempt fails (no server yet); the second is dropped after
+    // its Hello (a handshake lost on a bad link).
+    j.last().drop();
+    j.run_for(0.2);
+    EXPECT_EQ(j.client->state(), ClientState::reconnecting);
+    EXPECT_EQ(j.opened.size(), 1u) << "waits reconnect_retry_s before the next attempt";
+    j.run_for(0.5);
+    ASSERT_EQ(j.opened.size(), 2u);
+    j.last().connect();
+    j.run_for(0.1);
+    j.last().drop();
+    j.run_for(1.0);
+    ASSERT_EQ(j.opened.size(), 3u);
+    j.last().connect();
+    j.run_for(0.1);
+    ASSERT_EQ(j.last().sent.size(), 1u);
+    const auto* hello = std::get_if<proto::Hello>(&j.last().sent[0]);
+    ASSERT_NE(hello, nullptr);
+    EXPECT_TRUE(hello->reconnect_token.empty()) << "a join, not a reconnect";
+    j.last().deliver(welcome_for(tracks().ring, 1));
+    j.run_for(0.1);
+    EXPECT_EQ(j.client->state(), ClientState::in_lobby);
+    EXPECT_EQ(j.client->slot(), 1);
+    EXPECT_EQ(j.client->stats().reconnects, 0u) << "joining again is not a reconnect";
+}
+
+TEST(ClientJoin, JoiningGivesUpAfterTheWindow) {
+    client::ClientConfig cc;
+    cc.join_window_s = 2.0;
+    cc.reconnect_retry_s = 0.5;
+    Joiner j(cc, {&tracks().ring}, 100);
+    for (int i = 0; i < 40 && j.client->state() != ClientState::closed; ++i) {
+        j.last().drop();  // every attempt fails
+        j.run_for(0.25);
+    }
+    EXPECT_EQ(j.client->state(), ClientState::closed);
+    EXPECT_EQ(j.client->close_reason().rfind("disconnected: could not join within", 0), 0u) << j.client->close_reason();
+    // One attempt per retry interval for the 2 s window, not one per failure.
+    EXPECT_GE(j.opened.size(), 3u);
+    EXPECT_LE(j.opened.size(), 6u);
+}
+
+TEST(ClientJoin, ARefusalOrAZeroWindowIsFinal) {
+    {
+        Joiner j(client::ClientConfig{}, {&tracks().ring}, 5);
+        j.last().connect();
+        j.last().deliver(proto::Refuse{"server full"});
+        j.last().drop();
+        j.run_for(2.0);
+        EXPECT_EQ(j.client->state(), ClientState::closed);
+        EXPECT_EQ(j.client->close_reason(), "refused: server full");
+        EXPECT_EQ(j.opened.size(), 1u);
+    }
+    {
+        client::ClientConfig cc;
+        cc.join_window_s = 0.0;
+        Joiner j(cc, {&tracks().ring}, 5);
+        j.last().drop();
+        j.run_for(2.0);
+        EXPECT_EQ(j.client->state(), ClientState::closed);
+        EXPECT_EQ(j.client->close_reason(), "disconnected");
+        EXPECT_EQ(j.opened.size(), 1u);
+    }
+}
+
+}  // namespace
