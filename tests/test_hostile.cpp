@@ -8,6 +8,7 @@
 // without it.
 #include "support/live_race.hpp"
 #include "support/log_capture.hpp"
+#include "support/raw_client.hpp"
 #include "support/test_seed.hpp"
 #include "support/wire_craft.hpp"
 

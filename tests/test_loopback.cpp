@@ -5,8 +5,6 @@
 #include "support/live_race.hpp"
 
 #include <gtest/gtest.h>
-#include <spdlog/cfg/env.h>
-#include <spdlog/spdlog.h>
 
 #include <cstdio>
 #include <map>
@@ -30,9 +28,9 @@ struct RaceOutcome {
 };
 
 RaceOutcome race(int bots, const jetrace::net::Conditions* conditions, int laps, int races = 1) {
-    spdlog::cfg::load_env_levels();  // SPDLOG_LEVEL=debug shows every correction
     RaceOutcome out;
     jetrace::test::LiveRaceOptions o;
+    o.log_levels_from_env = true;  // SPDLOG_LEVEL=debug shows every correction
     o.bots = bots;
     o.laps = laps;
     o.races = races;
@@ -51,7 +49,7 @@ RaceOutcome race(int bots, const jetrace::net::Conditions* conditions, int laps,
                 server_hashes[server.world().tick] = jetrace::state_hash(server.world());
             }
             for (int i = 0; i < bots; ++i) {
-                const jetrace::WorldState& a = live.bot(i).authoritative();
+                const jetrace::WorldState& a = live.bot(i).client->authoritative();
                 const auto it = server_hashes.find(a.tick);
                 if (it != server_hashes.end() && a.tick > 0 && (live.now_us() / 1000) % 97 == 0) {
                     ++out.hash_checks;
@@ -60,9 +58,9 @@ RaceOutcome race(int bots, const jetrace::net::Conditions* conditions, int laps,
             }
             if (server_hashes.size() > 4000) server_hashes.erase(server_hashes.begin());
             if (server.phase() == jetrace::proto::RacePhase::racing && bots > 1) {
-                const auto& a = live.bot(0).authoritative();
+                const auto& a = live.bot(0).client->authoritative();
                 if (a.cars.size() > 1 && a.cars[1].active && !a.cars[1].finished) {
-                    const double gap = (live.bot(0).visual_position(1) - a.cars[1].position).norm();
+                    const double gap = (live.bot(0).client->visual_position(1) - a.cars[1].position).norm();
                     out.max_interpolation_gap_m = std::max(out.max_interpolation_gap_m, gap);
                     ++out.interpolation_checks;
                 }
@@ -72,7 +70,7 @@ RaceOutcome race(int bots, const jetrace::net::Conditions* conditions, int laps,
     out.ends = live.ends;
     if (!live.ends.empty()) out.end = live.ends.back();
     for (int i = 0; i < bots; ++i) {
-        out.stats.push_back(live.bot(i).stats());
+        out.stats.push_back(live.bot(i).client->stats());
         out.finished.push_back(live.finished(i));
     }
     const auto replay = live.replay_hash();

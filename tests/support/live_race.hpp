@@ -1,7 +1,12 @@
 // A live race for tests: the real RaceServer on real ENet on 127.0.0.1 (port
-// chosen at run time), honest AI bots (RaceClient) and raw clients that send
-// whatever bytes a test crafts, all in one process on a virtual clock that
-// runs faster than real time (1 ms per step).
+// chosen at run time), AI bots (RaceClient) and raw clients that send
+// whatever bytes a test crafts (raw_client.hpp), all in one process on a
+// virtual clock that runs faster than real time (1 ms per step).
+//
+// Bots come two ways: connected at the start over a fixed connection (with
+// network conditions or a wrapper, no reconnects), or added later with
+// add_bot(), over a connection the test may cut (severable.hpp) and that the
+// client replaces by reconnecting.
 #pragma once
 
 #include "jetrace/builtin_tracks.hpp"
@@ -9,8 +14,15 @@
 #include "jetrace/driver_ai.hpp"
 #include "jetrace/offline_race.hpp"
 #include "jetrace/server/race_server.hpp"
+#include "raw_client.hpp"
+#include "severable.hpp"
 
+#include <gtest/gtest.h>
+#include <spdlog/cfg/env.h>
+
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -23,61 +35,11 @@
 
 namespace jetrace::test {
 
-/// A client that speaks raw bytes: it sends what the test gives it and
-/// remembers what the server said.
-class RawClient {
-public:
-    explicit RawClient(std::uint16_t port, std::uint32_t timeout_ms = 5000) {
-        transport_ = net::connect_enet("127.0.0.1", port, timeout_ms, error);
-    }
-    void service(std::uint64_t now_ms) {
-        if (!transport_) return;
-        events_.clear();
-        transport_->service(now_ms, events_);
-        for (const net::Event& e : events_) {
-            if (e.type == net::Event::Type::connected) connected = true;
-            if (e.type == net::Event::Type::disconnected) disconnected = true;
-            if (e.type != net::Event::Type::received) continue;
-            proto::Message m;
-            std::string why;
-            if (!proto::decode(e.data, m, why)) continue;
-            if (const auto* w = std::get_if<proto::Welcome>(&m)) welcome = *w;
-            if (const auto* r = std::get_if<proto::Refuse>(&m)) refuse = r->reason;
-            if (const auto* g = std::get_if<proto::Goodbye>(&m)) goodbye = g->reason;
-            if (const auto* s = std::get_if<proto::Snapshot>(&m)) {
-                ++snapshots;
-                if (s->phase == proto::RacePhase::countdown || s->phase == proto::RacePhase::racing)
-                    server_tick = s->server_tick;
-            }
-        }
-        transport_->flush();
-    }
-    bool send(std::span<const std::uint8_t> bytes, net::Channel channel = net::Channel::reliable) {
-        return transport_ && transport_->send(0, channel, bytes);
-    }
-    bool send(const proto::Message& m, net::Channel channel = net::Channel::reliable) {
-        return send(proto::encode(m), channel);
-    }
-    /// Stops answering (never serviced again), like a machine that vanished.
-    void vanish() { vanished = true; }
-
-    std::string error;
-    bool connected = false;
-    bool disconnected = false;
-    bool vanished = false;
-    std::optional<proto::Welcome> welcome;
-    std::string refuse;
-    std::string goodbye;
-    std::uint64_t snapshots = 0;
-    /// Newest server tick of a countdown or racing snapshot.
-    std::uint32_t server_tick = 0;
-
-private:
-    std::unique_ptr<net::Transport> transport_;
-    std::vector<net::Event> events_;
-};
+/// A fixed wall clock for connect tokens (unit: s since 1970).
+inline constexpr std::int64_t kUnixNow = 1'700'000'000;
 
 struct LiveRaceOptions {
+    /// Bots connected at the start (unit: bots); add_bot() adds more later.
     int bots = 4;
     int laps = 1;
     /// Races before the server is done (unit: races).
@@ -94,23 +56,60 @@ struct LiveRaceOptions {
     double finish_window_s = 120;
     /// Virtual time a connection may stay silent before its Hello (unit: s).
     double hello_timeout_s = 5.0;
+    /// Bot k (in the order they join) drives with skills_for(k + 1, skill_seed)[k].
     std::uint64_t skill_seed = 11;
     /// Network conditions on the sending side of the server and of every bot
-    /// (bot i: seed + 1000 + i); null: none.
+    /// connected at the start (bot i: seed + 1000 + i); null: none.
     const net::Conditions* conditions = nullptr;
-    /// Wraps a bot's transport (e.g. to make it misbehave); null: as is.
+    /// Wraps the transport of a bot connected at the start (e.g. to make it misbehave); null: as is.
     std::function<std::unique_ptr<net::Transport>(int bot, std::unique_ptr<net::Transport>)> wrap;
+    /// Whether the server records its races (see LiveRace::replay_hash()).
+    bool record = true;
+    /// The wall clock the server is given at the start (see LiveRace::unix_s).
+    std::int64_t unix_s = -1;
+    /// Applies SPDLOG_LEVEL (SPDLOG_LEVEL=debug for the details).
+    bool log_levels_from_env = false;
+    /// Last changes to the server's configuration (e.g. a connect key).
+    std::function<void(server::ServerConfig&)> tweak;
+};
+
+/// A server that waits for the players a test brings (add_bot(), handshake()):
+/// no bots at the start, 4 slots, the countdown from 2 players, the server's
+/// own finish window, 16 ENet connections, the wall clock at kUnixNow (for
+/// connect tokens), SPDLOG_LEVEL applied, no replay; then the changes in `tweak`.
+inline LiveRaceOptions lobby_options(std::function<void(server::ServerConfig&)> tweak = {}) {
+    LiveRaceOptions o;
+    o.bots = 0;
+    o.max_players = 4;
+    o.min_players = 2;
+    o.spare_connections = 12;
+    o.finish_window_s = server::ServerConfig{}.finish_window_s;
+    o.record = false;
+    o.unix_s = kUnixNow;
+    o.log_levels_from_env = true;
+    o.tweak = std::move(tweak);
+    return o;
+}
+
+/// An AI driver on its own connection.
+struct Bot {
+    /// The connection of a bot connected at the start, which its client uses (no reconnects).
+    std::unique_ptr<net::Transport> net;
+    std::unique_ptr<client::RaceClient> client;
+    DriverSkill skill;
+    /// The current connection of a bot from add_bot(), which the test may cut.
+    Severable* link = nullptr;
+    /// Not updated any more: its ENet host falls silent (LiveRace::freeze_bot()).
+    bool frozen = false;
 };
 
 class LiveRace {
 public:
-    explicit LiveRace(const LiveRaceOptions& o) : options_(o) {
+    explicit LiveRace(const LiveRaceOptions& o) : unix_s(o.unix_s), options_(o) {
+        if (o.log_levels_from_env) spdlog::cfg::load_env_levels();
         Track track;
         make_builtin_track("ring", track);
         scene_ = std::make_unique<Scene>(Scene::make(std::move(track), PhysicsSettings{}));
-        replay_path_ = (std::filesystem::temp_directory_path() /
-                        ("jetrace_live_" + std::to_string(::getpid()) + "_" + std::to_string(counter()++) + ".replay"))
-                           .string();
         server::ServerConfig cfg;
         cfg.laps = o.laps;
         cfg.max_players = o.max_players > 0 ? o.max_players : o.bots;
@@ -120,12 +119,18 @@ public:
         cfg.results_pause_s = 1.0;
         cfg.finish_window_s = o.finish_window_s;
         cfg.hello_timeout_s = o.hello_timeout_s;
-        cfg.record_path = replay_path_;
+        if (o.record) {
+            const std::string name =
+                "jetrace_live_" + std::to_string(::getpid()) + "_" + std::to_string(counter()++) + ".replay";
+            replay_path_ = (std::filesystem::temp_directory_path() / name).string();
+            cfg.record_path = replay_path_;
+        }
         net::ServerConfig ncfg;
         ncfg.bind = "127.0.0.1";
         ncfg.port = 0;
         ncfg.max_connections = static_cast<std::size_t>(cfg.max_players) + o.spare_connections;
         ncfg.timeout_ms = o.server_timeout_ms;
+        if (o.tweak) o.tweak(cfg);
         server_net_ = net::listen_enet(ncfg, error);
         if (!server_net_) return;
         port = server_net_->local_port();
@@ -135,9 +140,8 @@ public:
             ends.push_back(e);
             end_worlds.push_back(server_->world());
         };
-        skills_ = skills_for(o.bots, o.skill_seed);
         for (int i = 0; i < o.bots; ++i) {
-            auto t = net::connect_enet("127.0.0.1", port, 5000, error);
+            auto t = connect(5000, error);
             if (!t) return;
             if (o.conditions) {
                 net::Conditions c = *o.conditions;
@@ -147,41 +151,91 @@ public:
             if (o.wrap) t = o.wrap(i, std::move(t));
             client::ClientConfig cc;
             cc.name = "bot" + std::to_string(i);
-            bots_.push_back(std::make_unique<client::RaceClient>(cc, *scene_, *t));
-            bot_nets_.push_back(std::move(t));
+            Bot& b = new_bot();
+            b.net = std::move(t);
+            b.client = std::make_unique<client::RaceClient>(cc, *scene_, *b.net);
         }
-        frozen_.assign(bots_.size(), false);
         ok_ = true;
     }
-    ~LiveRace() { std::filesystem::remove(replay_path_); }
+    ~LiveRace() {
+        if (!replay_path_.empty()) std::filesystem::remove(replay_path_);
+    }
+    LiveRace(const LiveRace&) = delete;
+    LiveRace& operator=(const LiveRace&) = delete;
 
     bool ok() const { return ok_; }
     server::RaceServer& server() { return *server_; }
-    client::RaceClient& bot(int i) { return *bots_[static_cast<std::size_t>(i)]; }
+    const server::RaceServer& server() const { return *server_; }
+    Bot& bot(int i) { return *bots_[static_cast<std::size_t>(i)]; }
     int bots() const { return static_cast<int>(bots_.size()); }
     std::uint64_t now_us() const { return now_us_; }
     const Scene& scene() const { return *scene_; }
 
+    /// A new connection to the server (null and `why` if it cannot be made).
+    std::unique_ptr<net::Transport> connect(std::uint32_t timeout_ms, std::string& why) const {
+        return net::connect_enet("127.0.0.1", port, timeout_ms, why);
+    }
+
+    /// A bot that connects now and after every drop, each time through a
+    /// fresh Severable connection (its `link`).
+    Bot& add_bot(const client::ClientConfig& cc) {
+        Bot& bot = new_bot();
+        Bot* b = &bot;
+        bot.client = std::make_unique<client::RaceClient>(cc, *scene_, [this, b]() -> std::unique_ptr<net::Transport> {
+            std::string why;
+            auto inner = connect(5000, why);
+            EXPECT_TRUE(inner) << why;
+            if (!inner) return nullptr;
+            auto s = std::make_unique<Severable>(std::move(inner));
+            b->link = s.get();
+            return s;
+        });
+        return bot;
+    }
+    Bot& add_bot(const std::string& name) {
+        client::ClientConfig cc;
+        cc.name = name;
+        return add_bot(cc);
+    }
+
+    /// A raw client, serviced on every step until it vanishes.
     RawClient& add_raw(std::uint32_t timeout_ms = 5000) {
-        raws_.push_back(std::make_unique<RawClient>(port, timeout_ms));
+        std::string why;
+        auto t = connect(timeout_ms, why);
+        raws_.push_back(std::make_unique<RawClient>(std::move(t), why));
         return *raws_.back();
     }
     /// Bot i stops running (no updates: its ENet host falls silent).
-    void freeze_bot(int i) { frozen_[static_cast<std::size_t>(i)] = true; }
+    void freeze_bot(int i) { bots_[static_cast<std::size_t>(i)]->frozen = true; }
 
-    /// One virtual millisecond: the server, every bot and raw client.
-    void step() {
+    /// One virtual millisecond: the server, every bot neither frozen nor in
+    /// `paused`, every raw client.
+    void step(const std::vector<const Bot*>& paused = {}) {
         now_us_ += 1000;
-        server_->update(now_us_);
-        for (std::size_t i = 0; i < bots_.size(); ++i) {
-            if (frozen_[i]) continue;
-            const DriverSkill skill = skills_[i];
-            bots_[i]->update(now_us_, [&](const Scene& sc, const WorldState& w, int slot) { return drive(sc, w, slot, skill); });
+        if (unix_s >= 0) server_->update(now_us_, unix_s);
+        else server_->update(now_us_);
+        for (const auto& b : bots_) {
+            if (b->frozen || std::find(paused.begin(), paused.end(), b.get()) != paused.end()) continue;
+            const DriverSkill skill = b->skill;
+            b->client->update(now_us_, [skill](const Scene& sc, const WorldState& w, int slot) {
+                return drive(sc, w, slot, skill);
+            });
         }
         for (auto& r : raws_) {
             if (!r->vanished) r->service(now_us_ / 1000);
         }
+        // Give ENet real time to move the datagrams.
         if (now_us_ % 5000 == 0) std::this_thread::sleep_for(std::chrono::microseconds(200));
+    }
+
+    /// Steps until `done()` or `max_ms` virtual milliseconds; false on timeout.
+    bool run_until(const std::function<bool()>& done, std::uint64_t max_ms,
+                   const std::vector<const Bot*>& paused = {}) {
+        for (std::uint64_t i = 0; i < max_ms; ++i) {
+            if (done()) return true;
+            step(paused);
+        }
+        return done();
     }
 
     /// Steps until the server is done (then lets the last messages arrive),
@@ -198,24 +252,50 @@ public:
         return true;
     }
 
+    /// Sends `hello` on a new connection and returns the server's answer
+    /// (monostate if none within 3 virtual seconds), stepping the race
+    /// meanwhile. The connection is then handed to `*keep` if given (nobody
+    /// services it), else closed with a Goodbye.
+    Answer handshake(const proto::Hello& hello, const std::vector<const Bot*>& paused = {},
+                     std::unique_ptr<RawClient>* keep = nullptr) {
+        std::string why;
+        auto raw = std::make_unique<RawClient>(connect(5000, why), why);
+        EXPECT_TRUE(raw->ok()) << why;
+        if (!raw->ok()) return {};
+        raw->send_on_connect(hello);
+        run_until(
+            [&] {
+                raw->service(now_us_ / 1000);
+                return raw->answer().index() != 0;
+            },
+            3000, paused);
+        const Answer answer = raw->answer();
+        if (keep) *keep = std::move(raw);
+        else raw->leave("test done");
+        return answer;
+    }
+
     /// Whether bot i finished according to the results it received.
     bool finished(int i) const {
-        const auto& c = *bots_[static_cast<std::size_t>(i)];
+        const auto& c = *bots_[static_cast<std::size_t>(i)]->client;
         for (const auto& s : c.results().standings) {
             if (s.slot == c.slot()) return s.finished;
         }
         return false;
     }
-    /// The final state hash of re-simulating the recorded replay (nullopt: unreadable).
+    /// The final state hash of re-simulating the recorded replay (nullopt:
+    /// unreadable or not recorded).
     std::optional<std::uint64_t> replay_hash() const {
         Replay replay;
         std::string why;
-        if (!read_replay(replay_path_, replay, why) ||
+        if (replay_path_.empty() || !read_replay(replay_path_, replay, why) ||
             !check_replay(*scene_, replay, physics_fingerprint(scene_->physics), why))
             return std::nullopt;
         return state_hash(run_replay(*scene_, replay));
     }
 
+    /// What step() passes the server as the wall clock (unit: s since 1970; -1: nothing).
+    std::int64_t unix_s = -1;
     std::uint16_t port = 0;
     std::string error;
     std::vector<server::RaceEnd> ends;
@@ -227,6 +307,14 @@ private:
         static int n = 0;
         return n;
     }
+    /// A bot without a client yet, with the next skill.
+    Bot& new_bot() {
+        const int k = static_cast<int>(bots_.size());
+        auto bot = std::make_unique<Bot>();
+        bot->skill = skills_for(k + 1, options_.skill_seed)[static_cast<std::size_t>(k)];
+        bots_.push_back(std::move(bot));
+        return *bots_.back();
+    }
 
     LiveRaceOptions options_;
     bool ok_ = false;
@@ -234,10 +322,7 @@ private:
     std::string replay_path_;
     std::unique_ptr<net::Transport> server_net_;
     std::unique_ptr<server::RaceServer> server_;
-    std::vector<DriverSkill> skills_;
-    std::vector<std::unique_ptr<net::Transport>> bot_nets_;
-    std::vector<std::unique_ptr<client::RaceClient>> bots_;
-    std::vector<bool> frozen_;
+    std::vector<std::unique_ptr<Bot>> bots_;
     std::vector<std::unique_ptr<RawClient>> raws_;
     std::uint64_t now_us_ = 0;
 };

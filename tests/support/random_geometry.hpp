@@ -5,22 +5,23 @@
 //
 // Random tests draw from std::mt19937_64. The seed is fixed by default; set
 // the environment variable JETRACE_TEST_SEED (decimal or 0x-hex) to run with
-// another one. JETRACE_SEEDED_RNG prints the seed on failure (SCOPED_TRACE)
-// and records it as the test property "seed" (visible with
+// another one. JETRACE_SEEDED_RNG prints the seed, shows it on failure
+// (SCOPED_TRACE) and records it as the test property "seed" (visible with
 // --gtest_output=xml), so a failure can be replayed with
 //   JETRACE_TEST_SEED=<seed> ./<test binary> --gtest_filter=<test>
+// (test_seed.hpp does all of that).
 //
 // Not to be included together with test_scenes.hpp, which defines its own
 // base_seed, JETRACE_SEEDED_RNG and str for the resolver's tests.
 #pragma once
 
 #include "jetrace/geometry.hpp"
+#include "test_seed.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
 #include <random>
 #include <sstream>
 #include <string>
@@ -29,19 +30,9 @@ namespace jetrace::test {
 
 // ---------------------------------------------------------------- seeds
 
-inline std::uint64_t base_seed() {
-    if (const char* e = std::getenv("JETRACE_TEST_SEED"); e != nullptr && *e != '\0') {
-        return std::strtoull(e, nullptr, 0);
-    }
-    return 0x6a65747261636501ull;
-}
+inline std::uint64_t base_seed() { return test_seed(0x6a65747261636501ull); }
 
-// Seeds the generator, prints the seed on failure and records it.
-#define JETRACE_SEEDED_RNG(rng)                                                                    \
-    const std::uint64_t rng##_seed = ::jetrace::test::base_seed();                                 \
-    SCOPED_TRACE("JETRACE_TEST_SEED=" + std::to_string(rng##_seed));                               \
-    ::testing::Test::RecordProperty("seed", std::to_string(rng##_seed));                           \
-    std::mt19937_64 rng(rng##_seed)
+#define JETRACE_SEEDED_RNG(rng) JETRACE_SEEDED_RNG_WITH(rng, ::jetrace::test::base_seed())
 
 // ---------------------------------------------------------------- random geometry
 

@@ -33,11 +33,7 @@ namespace jetrace::test {
 
 inline std::uint64_t base_seed() { return test_seed(0x6a65747261636502ull); }
 
-#define JETRACE_SEEDED_RNG(rng)                                                                    \
-    const std::uint64_t rng##_seed = ::jetrace::test::base_seed();                                                  \
-    SCOPED_TRACE("JETRACE_TEST_SEED=" + std::to_string(rng##_seed));                               \
-    ::testing::Test::RecordProperty("seed", std::to_string(rng##_seed));                           \
-    std::mt19937_64 rng(rng##_seed)
+#define JETRACE_SEEDED_RNG(rng) JETRACE_SEEDED_RNG_WITH(rng, ::jetrace::test::base_seed())
 
 // ---------------------------------------------------------------- scenes
 
