@@ -84,7 +84,7 @@ int main(int argc, char** argv) {
     app.add_option("--max-seconds", max_seconds, "give up after this many wall-clock seconds")
         ->check(CLI::Range(1.0, 1e7));
     app.add_option("--join-window", join_window_s,
-                   "if the connection fails before the welcome, keep trying to join this long (s; 0: never)")
+                   "if the server cannot be reached, keep trying to join this long (s; 0: never)")
         ->check(CLI::Range(0.0, 3600.0));
     app.add_option("--reconnect-grace", reconnect_grace_s,
                    "after a drop, try to get the car back this long (s; the server's --reconnect-grace; 0: never)")
@@ -120,6 +120,12 @@ int main(int argc, char** argv) {
             return 2;
         }
         count = static_cast<int>(tokens.size());
+        if (track_spec.empty()) {
+            // A bot admitted to a race on a track it does not know leaves,
+            // and its token (which admits once) is spent.
+            std::fprintf(stderr, "jetrace-bot: connect tokens need --track (the track the private race runs on)\n");
+            return 2;
+        }
     }
 
     // The server's Welcome names its track: a bot races on the built-in
@@ -168,7 +174,9 @@ int main(int argc, char** argv) {
         }
         cc.name = b.name;
         cc.reconnect_window_s = reconnect_grace_s;
-        cc.join_window_s = join_window_s;
+        // Real seconds: the bots' clock runs --time-scale times faster.
+        cc.join_window_s = join_window_s * time_scale;
+        cc.welcome_timeout_s = 10.0 * time_scale;
         b.client = std::make_unique<jetrace::client::RaceClient>(cc, known, [&host, port] {
             std::string e;
             auto t = jetrace::net::connect_enet(host, static_cast<std::uint16_t>(port), 5000, e);
@@ -182,6 +190,7 @@ int main(int argc, char** argv) {
         bots.push_back(std::move(b));
     }
     std::size_t done = 0;
+    bool track_mismatch = false;
     while (done < bots.size()) {
         const std::uint64_t t = now_us();
         for (Bot& b : bots) {
@@ -201,9 +210,10 @@ int main(int argc, char** argv) {
         std::this_thread::sleep_for(std::chrono::microseconds(500));
     }
     for (const Bot& b : bots) {
-        if (track_spec.empty() && b.client->close_reason().starts_with("track mismatch")) {
-            std::fprintf(stderr,
-                         "jetrace-bot: the server races on a track that is not built in: pass --track FILE.obj\n");
+        if (b.client->close_reason().starts_with("track mismatch")) {
+            std::fprintf(stderr, "jetrace-bot: %s%s\n", b.client->close_reason().c_str(),
+                         track_spec.empty() ? " (not a built-in track: pass --track FILE.obj)" : "");
+            track_mismatch = true;
             break;
         }
     }
@@ -236,5 +246,6 @@ int main(int argc, char** argv) {
         j["closed"] = b.client->close_reason();
         std::printf("%s\n", j.dump().c_str());
     }
+    if (track_mismatch) return 2;
     return failures == 0 ? 0 : 3;
 }

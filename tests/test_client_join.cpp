@@ -1,7 +1,8 @@
 // RaceClient's joining, over scripted transports (no network, no clock):
-// the Welcome picks the track among the client's known scenes, and a
-// connection that fails before the Welcome joins again within
-// ClientConfig::join_window_s, while a refusal is final.
+// the Welcome picks the track among the client's known scenes; a
+// connection that never came up joins again within
+// ClientConfig::join_window_s, while a drop after the Hello, a refusal or a
+// missing Welcome is final.
 #include "jetrace/builtin_tracks.hpp"
 #include "jetrace/client/race_client.hpp"
 #include "jetrace/proto/messages.hpp"
@@ -144,27 +145,25 @@ TEST(ClientJoin, AnUnknownTrackOrOtherPhysicsLeaves) {
     }
 }
 
-TEST(ClientJoin, AConnectionLostBeforeTheWelcomeJoinsAgain) {
+TEST(ClientJoin, AConnectionThatNeverCameUpJoinsAgain) {
     client::ClientConfig cc;
     cc.join_window_s = 5.0;
     cc.reconnect_retry_s = 0.5;
     Joiner j(cc, {&tracks().ring}, 3);
     ASSERT_EQ(j.opened.size(), 1u);
-    // The first attempt fails (no server yet); the second is dropped after
-    // its Hello (a handshake lost on a bad link).
+    // The first two attempts fail before they come up (no server yet).
     j.last().drop();
     j.run_for(0.2);
     EXPECT_EQ(j.client->state(), ClientState::reconnecting);
     EXPECT_EQ(j.opened.size(), 1u) << "waits reconnect_retry_s before the next attempt";
     j.run_for(0.5);
     ASSERT_EQ(j.opened.size(), 2u);
-    j.last().connect();
-    j.run_for(0.1);
     j.last().drop();
     j.run_for(1.0);
     ASSERT_EQ(j.opened.size(), 3u);
     j.last().connect();
     j.run_for(0.1);
+    EXPECT_EQ(j.client->state(), ClientState::waiting_welcome);
     ASSERT_EQ(j.last().sent.size(), 1u);
     const auto* hello = std::get_if<proto::Hello>(&j.last().sent[0]);
     ASSERT_NE(hello, nullptr);
@@ -174,6 +173,42 @@ TEST(ClientJoin, AConnectionLostBeforeTheWelcomeJoinsAgain) {
     EXPECT_EQ(j.client->state(), ClientState::in_lobby);
     EXPECT_EQ(j.client->slot(), 1);
     EXPECT_EQ(j.client->stats().reconnects, 0u) << "joining again is not a reconnect";
+}
+
+TEST(ClientJoin, ADropAfterTheHelloIsFinal) {
+    // The server may have admitted the Hello (and spent its connect token):
+    // a second Hello could take a second slot or be refused.
+    for (const bool rejoined : {false, true}) {
+        Joiner j(client::ClientConfig{}, {&tracks().ring}, 5);
+        if (rejoined) {
+            j.last().drop();
+            j.run_for(1.0);
+            ASSERT_EQ(j.opened.size(), 2u);
+        }
+        j.last().connect();
+        j.run_for(0.1);
+        ASSERT_EQ(j.client->state(), ClientState::waiting_welcome);
+        j.last().drop();
+        j.run_for(2.0);
+        EXPECT_EQ(j.client->state(), ClientState::closed);
+        EXPECT_EQ(j.client->close_reason(), "disconnected");
+        EXPECT_EQ(j.opened.size(), rejoined ? 2u : 1u);
+    }
+}
+
+TEST(ClientJoin, NoWelcomeWithinTheTimeoutLeaves) {
+    client::ClientConfig cc;
+    cc.welcome_timeout_s = 3.0;
+    Joiner j(cc, {&tracks().ring}, 5);
+    j.last().connect();
+    j.run_for(2.9);
+    EXPECT_EQ(j.client->state(), ClientState::waiting_welcome);
+    j.run_for(0.2);
+    EXPECT_EQ(j.client->state(), ClientState::closed);
+    EXPECT_EQ(j.client->close_reason().rfind("no welcome within 3", 0), 0u) << j.client->close_reason();
+    EXPECT_TRUE(j.last().disconnected);
+    ASSERT_FALSE(j.last().sent.empty());
+    EXPECT_TRUE(std::holds_alternative<proto::Goodbye>(j.last().sent.back()));
 }
 
 TEST(ClientJoin, JoiningGivesUpAfterTheWindow) {
@@ -187,6 +222,7 @@ TEST(ClientJoin, JoiningGivesUpAfterTheWindow) {
     }
     EXPECT_EQ(j.client->state(), ClientState::closed);
     EXPECT_EQ(j.client->close_reason().rfind("disconnected: could not join within", 0), 0u) << j.client->close_reason();
+    EXPECT_TRUE(j.last().disconnected) << "the attempt under way is called off";
     // One attempt per retry interval for the 2 s window, not one per failure.
     EXPECT_GE(j.opened.size(), 3u);
     EXPECT_LE(j.opened.size(), 6u);

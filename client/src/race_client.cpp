@@ -93,7 +93,7 @@ void RaceClient::on_event(const net::Event& e) {
                 next_attempt_us_ = now_us_;
                 need_connection_ = true;
             } else if (may_rejoin()) {
-                spdlog::info("{}: connection lost before the welcome; joining again", config_.name);
+                spdlog::info("{}: could not connect; joining again", config_.name);
                 state_ = ClientState::reconnecting;
                 rejoining_ = true;
                 dropped_at_us_ = now_us_;
@@ -131,6 +131,7 @@ void RaceClient::on_message(const proto::Message& m) {
                    w->tick_rate_hz != chosen->physics.tick_rate_hz) {
             leave("physics settings differ from the server's");
         } else {
+            if (chosen != scene_) scratch_ = StepScratch{};  // it holds the other track's triangles
             scene_ = chosen;
             tick_us_ = 1e6 / chosen->physics.tick_rate_hz;
             if (state_ == ClientState::reconnecting && !rejoining_) {
@@ -226,8 +227,17 @@ void RaceClient::send_hello() {
     proto::Hello h;
     h.name = config_.name;
     h.connect_token = config_.connect_token;
-    if (state_ == ClientState::reconnecting) h.reconnect_token = reconnect_token_;
-    else state_ = ClientState::waiting_welcome;
+    if (state_ == ClientState::reconnecting && !rejoining_) {
+        h.reconnect_token = reconnect_token_;
+    } else {
+        // A join (again): from here on like the first attempt. Once the Hello
+        // is out the server may admit us, so a drop now is not retried (a
+        // second Hello could take a second slot, or find its connect token
+        // spent).
+        state_ = ClientState::waiting_welcome;
+        rejoining_ = false;
+        hello_sent_us_ = now_us_;
+    }
     transport_->send(0, net::Channel::reliable, proto::encode(h));
 }
 
@@ -238,13 +248,18 @@ bool RaceClient::may_reconnect() const {
 }
 
 bool RaceClient::may_rejoin() const {
-    return connector_ && (state_ == ClientState::connecting || state_ == ClientState::waiting_welcome) &&
-           config_.join_window_s > 0 && close_reason_.empty();
+    // Only a connection that never came up: no Hello reached the server.
+    return connector_ && state_ == ClientState::connecting && config_.join_window_s > 0 && close_reason_.empty();
 }
 
 void RaceClient::reconnect_step() {
     const double window_s = rejoining_ ? config_.join_window_s : config_.reconnect_window_s;
     if (now_us_ - dropped_at_us_ > static_cast<std::uint64_t>(window_s * 1e6)) {
+        // An attempt still under way must not be admitted after we gave up.
+        if (transport_) {
+            transport_->disconnect(0);
+            transport_->flush();
+        }
         close(std::string("disconnected: could not ") + (rejoining_ ? "join" : "reconnect") + " within " +
               std::to_string(window_s) + " s");
         return;
@@ -368,6 +383,10 @@ void RaceClient::update(std::uint64_t now_us, const InputSource& input) {
     for (const net::Event& e : events_) {
         on_event(e);
         if (need_connection_) break;  // the rest came from the dead connection
+    }
+    if (state_ == ClientState::waiting_welcome && config_.welcome_timeout_s > 0 &&
+        now_us_ - hello_sent_us_ > static_cast<std::uint64_t>(config_.welcome_timeout_s * 1e6)) {
+        leave("no welcome within " + std::to_string(config_.welcome_timeout_s) + " s");
     }
     if (state_ == ClientState::closed || state_ == ClientState::reconnecting || !have_world_ || slot_ < 0) {
         transport_->flush();

@@ -44,11 +44,15 @@ struct ClientConfig {
     double reconnect_window_s = 10.0;
     /// Pause between two reconnect or join attempts (unit: s).
     double reconnect_retry_s = 0.5;
-    /// If the connection fails or drops before the Welcome (the server not
-    /// up yet, a handshake lost on a bad link) without a Refuse or Goodbye,
-    /// keep trying to join this long after the first failure. Needs the
-    /// Connector constructor; 0: never (unit: s).
+    /// If a connection attempt fails before it comes up (the server not up
+    /// yet, or unreachable for a while), keep trying to join this long after
+    /// the first failure. A connection that drops after the Hello went out
+    /// is not retried: the server may have admitted it. Needs the Connector
+    /// constructor; 0: never (unit: s).
     double join_window_s = 10.0;
+    /// Leave if no Welcome (or Refuse) comes this long after the Hello (a
+    /// port that answers but is no jetrace server); 0: wait (unit: s).
+    double welcome_timeout_s = 10.0;
     /// Hello.connect_token: a signed connect token for a private race
     /// (jetrace-token issue), or empty (unit: bytes).
     std::vector<std::uint8_t> connect_token;
@@ -164,6 +168,7 @@ private:
     std::uint64_t next_attempt_us_ = 0;
     bool need_connection_ = false;
     bool rejoining_ = false;  // reconnecting state, but with no slot to take back
+    std::uint64_t hello_sent_us_ = 0;
     ClientState state_ = ClientState::connecting;
     std::string close_reason_;
     int slot_ = -1;
