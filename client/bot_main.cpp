@@ -13,6 +13,7 @@
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <chrono>
@@ -94,6 +95,8 @@ int main(int argc, char** argv) {
         ->expected(1, 64);
     app.add_option("--token-file", token_file, "file of connect tokens, one a line (with --token: after those)");
     CLI11_PARSE(app, argc, argv);
+    // Logs go to stderr: stdout carries only the bots' JSON lines.
+    spdlog::set_default_logger(spdlog::stderr_color_mt("bot"));
     spdlog::set_level(spdlog::level::from_str(log_level));
     spdlog::set_pattern("[%H:%M:%S.%e] [bot] [%l] %v");
 

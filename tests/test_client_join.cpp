@@ -196,6 +196,34 @@ TEST(ClientJoin, ADropAfterTheHelloIsFinal) {
     }
 }
 
+TEST(ClientJoin, AServerThatNeverGotTheHelloIsJoinedAgain) {
+    // Its Goodbye says so (proto::kNoHelloReason): it admitted nothing. Any
+    // other Goodbye before the Welcome is final.
+    for (const bool no_hello : {true, false}) {
+        Joiner j(client::ClientConfig{}, {&tracks().ring}, 5);
+        j.last().connect();
+        j.run_for(0.1);
+        ASSERT_EQ(j.client->state(), ClientState::waiting_welcome);
+        const std::string reason = no_hello ? std::string(proto::kNoHelloReason) + " 5.000000 s" : "shutting down";
+        j.last().deliver(proto::Goodbye{reason});
+        j.last().drop();
+        j.run_for(1.0);
+        if (!no_hello) {
+            EXPECT_EQ(j.client->state(), ClientState::closed);
+            EXPECT_EQ(j.client->close_reason(), "server: shutting down");
+            EXPECT_EQ(j.opened.size(), 1u);
+            continue;
+        }
+        ASSERT_EQ(j.opened.size(), 2u);
+        j.last().connect();
+        j.run_for(0.1);
+        j.last().deliver(welcome_for(tracks().ring, 2));
+        j.run_for(0.1);
+        EXPECT_EQ(j.client->state(), ClientState::in_lobby);
+        EXPECT_EQ(j.client->close_reason(), "");
+    }
+}
+
 TEST(ClientJoin, NoWelcomeWithinTheTimeoutLeaves) {
     client::ClientConfig cc;
     cc.welcome_timeout_s = 3.0;

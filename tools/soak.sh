@@ -21,7 +21,7 @@
 #                                delays are divided by it, so that the game
 #                                sees the same delays in its own time
 #   JETRACE_SOAK_SAMPLE_S (1)    RSS sampling period
-#   JETRACE_SOAK_LOG_LEVEL (warn) of the server, the proxy and the bots
+#   JETRACE_SOAK_LOG_LEVEL (info) of the server, the proxy and the bots
 #   JETRACE_SOAK_MAX_GROWTH_KIB (1024)
 #   JETRACE_SOAK_DEADLINE_S (0: none) give up after this many wall-clock
 #                                seconds, printing what the server and bots logged
@@ -41,7 +41,7 @@ track="${JETRACE_SOAK_TRACK:-ring}"
 laps="${JETRACE_SOAK_LAPS:-1}"
 scale="${JETRACE_SOAK_TIME_SCALE:-1}"
 sample_s="${JETRACE_SOAK_SAMPLE_S:-1}"
-log_level="${JETRACE_SOAK_LOG_LEVEL:-warn}"
+log_level="${JETRACE_SOAK_LOG_LEVEL:-info}"
 max_growth_kib="${JETRACE_SOAK_MAX_GROWTH_KIB:-1024}"
 deadline_s="${JETRACE_SOAK_DEADLINE_S:-0}"
 for v in seconds races bots per_process max_growth_kib deadline_s; do
@@ -67,8 +67,8 @@ cleanup() {
 show_logs() {
   echo "soak: server log (last 40 lines):"; tail -n 40 "$out/server.log" | sed 's/^/  /'
   for f in "$out"/bots*.log; do
-    echo "soak: $(basename "$f") warnings and errors (last 20):"
-    { grep -E '\[(warning|error|critical)\]' "$f" || true; } | tail -n 20 | sed 's/^/  /'
+    echo "soak: $(basename "$f") warnings, errors, joins and closes (last 20):"
+    { grep -E '\[(warning|error|critical)\]|welcome|joining again|closed' "$f" || true; } | tail -n 20 | sed 's/^/  /'
   done
   echo "soak: netsim log (last 5 lines):"; tail -n 5 "$out/netsim.log" | sed 's/^/  /'
   for f in "$out"/bots*.json; do

@@ -92,8 +92,11 @@ void RaceClient::on_event(const net::Event& e) {
                 dropped_at_us_ = now_us_;
                 next_attempt_us_ = now_us_;
                 need_connection_ = true;
-            } else if (may_rejoin()) {
-                spdlog::info("{}: could not connect; joining again", config_.name);
+            } else if (may_rejoin() || (no_hello_ && may_rejoin_after_no_hello())) {
+                spdlog::info("{}: {}; joining again", config_.name,
+                             no_hello_ ? close_reason_ : std::string("could not connect"));
+                close_reason_.clear();
+                no_hello_ = false;
                 state_ = ClientState::reconnecting;
                 rejoining_ = true;
                 dropped_at_us_ = now_us_;
@@ -150,6 +153,9 @@ void RaceClient::on_message(const proto::Message& m) {
         close("refused: " + r->reason);
     } else if (const auto* g = std::get_if<proto::Goodbye>(&m)) {
         close_reason_ = "server: " + g->reason;
+        // The server never got our Hello (lost on a bad link): it admitted
+        // nothing, so joining again is safe.
+        no_hello_ = state_ == ClientState::waiting_welcome && g->reason.starts_with(proto::kNoHelloReason);
     } else if (const auto* s = std::get_if<proto::RaceStatus>(&m)) {
         phase_ = s->phase;
         for (const auto& p : s->players) {
@@ -245,6 +251,10 @@ bool RaceClient::may_reconnect() const {
     // Not after the server's Goodbye (close_reason_ holds it): it meant it.
     return connector_ && (state_ == ClientState::in_lobby || state_ == ClientState::racing) &&
            reconnect_token_.size() == proto::kTokenBytes && config_.reconnect_window_s > 0 && close_reason_.empty();
+}
+
+bool RaceClient::may_rejoin_after_no_hello() const {
+    return connector_ && state_ == ClientState::waiting_welcome && config_.join_window_s > 0;
 }
 
 bool RaceClient::may_rejoin() const {

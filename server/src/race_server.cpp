@@ -297,7 +297,9 @@ int RaceServer::update(std::uint64_t now_us) {
             silent.push_back(peer);
         }
     }
-    for (net::PeerId p : silent) drop(p, "no hello within " + std::to_string(config_.hello_timeout_s) + " s");
+    for (net::PeerId p : silent) {
+        drop(p, std::string(proto::kNoHelloReason) + " " + std::to_string(config_.hello_timeout_s) + " s");
+    }
     expire_held();
 
     int stepped = 0;

@@ -153,6 +153,7 @@ private:
     void reset_world();
     bool may_reconnect() const;
     bool may_rejoin() const;
+    bool may_rejoin_after_no_hello() const;
     void reconnect_step();
 
     ClientConfig config_;
@@ -169,6 +170,7 @@ private:
     bool need_connection_ = false;
     bool rejoining_ = false;  // reconnecting state, but with no slot to take back
     std::uint64_t hello_sent_us_ = 0;
+    bool no_hello_ = false;  // the server's Goodbye said it never got our Hello
     ClientState state_ = ClientState::connecting;
     std::string close_reason_;
     int slot_ = -1;

@@ -25,6 +25,9 @@ inline constexpr std::size_t kMaxInputsPerBatch = 64;
 inline constexpr std::size_t kMaxNameBytes = 32;
 /// Longest refusal/goodbye reason (unit: bytes).
 inline constexpr std::size_t kMaxReasonBytes = 256;
+/// How every Goodbye to a connection whose Hello never arrived begins (then
+/// the timeout): the server admitted nothing, so the client may join again.
+inline constexpr const char* kNoHelloReason = "no hello within";
 /// Most players a server hosts (slots are 0..kMaxSlots-1).
 inline constexpr int kMaxSlots = 64;
 /// Length of the reconnect token in Welcome/Hello (unit: bytes).
