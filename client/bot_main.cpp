@@ -179,7 +179,7 @@ int main(int argc, char** argv) {
         cc.reconnect_window_s = reconnect_grace_s;
         // Real seconds: the bots' clock runs --time-scale times faster.
         cc.join_window_s = join_window_s * time_scale;
-        cc.welcome_timeout_s = 10.0 * time_scale;
+        cc.welcome_timeout_s *= time_scale;
         b.client = std::make_unique<jetrace::client::RaceClient>(cc, known, [&host, port] {
             std::string e;
             auto t = jetrace::net::connect_enet(host, static_cast<std::uint16_t>(port), 5000, e);

@@ -85,15 +85,21 @@ struct Joiner {
 
     Joiner(const client::ClientConfig& cc, const client::KnownScenes& scenes, int transports) {
         auto remaining = std::make_shared<int>(transports);
-        client = std::make_unique<client::RaceClient>(cc, scenes, [this, remaining]() -> std::unique_ptr<net::Transport> {
+        const auto open = [this, remaining]() -> std::unique_ptr<net::Transport> {
             if (*remaining == 0) return nullptr;
             --*remaining;
             auto t = std::make_unique<ScriptedTransport>();
             opened.push_back(t.get());
             return t;
-        });
+        };
+        client = std::make_unique<client::RaceClient>(cc, scenes, open);
     }
     ScriptedTransport& last() { return *opened.back(); }
+    /// The newest connection comes up (the client sends its Hello).
+    void come_up() {
+        last().connect();
+        run_for(0.1);
+    }
     void run_for(double seconds) {
         for (const std::uint64_t end = now_us + static_cast<std::uint64_t>(seconds * 1e6); now_us < end;) {
             now_us += 10000;
@@ -161,8 +167,7 @@ TEST(ClientJoin, AConnectionThatNeverCameUpJoinsAgain) {
     j.last().drop();
     j.run_for(1.0);
     ASSERT_EQ(j.opened.size(), 3u);
-    j.last().connect();
-    j.run_for(0.1);
+    j.come_up();
     EXPECT_EQ(j.client->state(), ClientState::waiting_welcome);
     ASSERT_EQ(j.last().sent.size(), 1u);
     const auto* hello = std::get_if<proto::Hello>(&j.last().sent[0]);
@@ -185,8 +190,7 @@ TEST(ClientJoin, ADropAfterTheHelloIsFinal) {
             j.run_for(1.0);
             ASSERT_EQ(j.opened.size(), 2u);
         }
-        j.last().connect();
-        j.run_for(0.1);
+        j.come_up();
         ASSERT_EQ(j.client->state(), ClientState::waiting_welcome);
         j.last().drop();
         j.run_for(2.0);
@@ -201,8 +205,7 @@ TEST(ClientJoin, AServerThatNeverGotTheHelloIsJoinedAgain) {
     // other Goodbye before the Welcome is final.
     for (const bool no_hello : {true, false}) {
         Joiner j(client::ClientConfig{}, {&tracks().ring}, 5);
-        j.last().connect();
-        j.run_for(0.1);
+        j.come_up();
         ASSERT_EQ(j.client->state(), ClientState::waiting_welcome);
         const std::string reason = no_hello ? std::string(proto::kNoHelloReason) + " 5.000000 s" : "shutting down";
         j.last().deliver(proto::Goodbye{reason});
@@ -215,8 +218,7 @@ TEST(ClientJoin, AServerThatNeverGotTheHelloIsJoinedAgain) {
             continue;
         }
         ASSERT_EQ(j.opened.size(), 2u);
-        j.last().connect();
-        j.run_for(0.1);
+        j.come_up();
         j.last().deliver(welcome_for(tracks().ring, 2));
         j.run_for(0.1);
         EXPECT_EQ(j.client->state(), ClientState::in_lobby);

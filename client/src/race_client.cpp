@@ -92,7 +92,7 @@ void RaceClient::on_event(const net::Event& e) {
                 dropped_at_us_ = now_us_;
                 next_attempt_us_ = now_us_;
                 need_connection_ = true;
-            } else if (may_rejoin() || (no_hello_ && may_rejoin_after_no_hello())) {
+            } else if (may_rejoin()) {
                 spdlog::info("{}: {}; joining again", config_.name,
                              no_hello_ ? close_reason_ : std::string("could not connect"));
                 close_reason_.clear();
@@ -137,12 +137,11 @@ void RaceClient::on_message(const proto::Message& m) {
             if (chosen != scene_) scratch_ = StepScratch{};  // it holds the other track's triangles
             scene_ = chosen;
             tick_us_ = 1e6 / chosen->physics.tick_rate_hz;
-            if (state_ == ClientState::reconnecting && !rejoining_) {
+            if (state_ == ClientState::reconnecting) {
                 ++stats_.reconnects;
                 reset_world();  // the server's world went on without us
                 if (w->slot != slot_) spdlog::warn("{}: reconnected to slot {}, not {}", config_.name, w->slot, slot_);
             }
-            rejoining_ = false;
             slot_ = w->slot;
             snapshot_rate_hz_ = std::max<int>(1, w->snapshot_rate_hz);
             reconnect_token_ = w->reconnect_token;
@@ -253,13 +252,12 @@ bool RaceClient::may_reconnect() const {
            reconnect_token_.size() == proto::kTokenBytes && config_.reconnect_window_s > 0 && close_reason_.empty();
 }
 
-bool RaceClient::may_rejoin_after_no_hello() const {
-    return connector_ && state_ == ClientState::waiting_welcome && config_.join_window_s > 0;
-}
-
 bool RaceClient::may_rejoin() const {
-    // Only a connection that never came up: no Hello reached the server.
-    return connector_ && state_ == ClientState::connecting && config_.join_window_s > 0 && close_reason_.empty();
+    // Only when no Hello reached the server: the connection never came up,
+    // or the server's Goodbye said it never got the Hello.
+    const bool nothing_admitted = (state_ == ClientState::connecting && close_reason_.empty()) ||
+                                  (state_ == ClientState::waiting_welcome && no_hello_);
+    return connector_ && config_.join_window_s > 0 && nothing_admitted;
 }
 
 void RaceClient::reconnect_step() {

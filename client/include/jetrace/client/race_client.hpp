@@ -153,7 +153,6 @@ private:
     void reset_world();
     bool may_reconnect() const;
     bool may_rejoin() const;
-    bool may_rejoin_after_no_hello() const;
     void reconnect_step();
 
     ClientConfig config_;
