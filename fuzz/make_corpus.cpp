@@ -72,8 +72,8 @@ jp::WorldSnapshot snapshot_of(const jetrace::Scene& scene, const jetrace::WorldS
 
 void messages(const std::vector<Bytes>& worlds, const std::vector<std::uint32_t>& ticks) {
     const std::vector<std::uint8_t> token(jp::kTokenBytes, 0xA5);
-    put("message_decode", "hello", jp::encode(jp::Hello{jp::kProtocolVersion, "racer", {}}));
-    put("message_decode", "hello_token", jp::encode(jp::Hello{jp::kProtocolVersion, "Zoë", token}));
+    put("message_decode", "hello", jp::encode(jp::Hello{jp::kProtocolVersion, "racer", {}, {}}));
+    put("message_decode", "hello_token", jp::encode(jp::Hello{jp::kProtocolVersion, "Zoë", token, {}}));
     jp::Welcome welcome;
     welcome.slot = 3;
     welcome.max_players = 8;

@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -69,6 +70,9 @@ int main(int argc, char** argv) {
     // 4 could miss it (1.25 s of real time) and the race would wait forever
     // for that player.
     cfg.hello_timeout_s = hello_timeout_s * time_scale;
+    // Logs go to stderr: stdout carries only what scripts read (the port, the
+    // results, the JSON figures).
+    spdlog::set_default_logger(spdlog::stderr_color_mt("server"));
     spdlog::set_level(spdlog::level::from_str(log_level));
     spdlog::set_pattern("[%H:%M:%S.%e] [server] [%l] %v");
 

@@ -10,29 +10,19 @@
 // --gtest_output=xml), so a failure can be replayed with
 //   JETRACE_TEST_SEED=<seed> ./<test binary> --gtest_filter=<test>
 // (test_seed.hpp does all of that).
-//
-// Not to be included together with test_scenes.hpp, which defines its own
-// base_seed, JETRACE_SEEDED_RNG and str for the resolver's tests.
 #pragma once
 
 #include "jetrace/geometry.hpp"
 #include "test_seed.hpp"
+#include "vec_str.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdint>
 #include <random>
-#include <sstream>
-#include <string>
 
 namespace jetrace::test {
-
-// ---------------------------------------------------------------- seeds
-
-inline std::uint64_t base_seed() { return test_seed(0x6a65747261636501ull); }
-
-#define JETRACE_SEEDED_RNG(rng) JETRACE_SEEDED_RNG_WITH(rng, ::jetrace::test::base_seed())
 
 // ---------------------------------------------------------------- random geometry
 
@@ -60,13 +50,6 @@ inline Vec3 random_on_triangle(std::mt19937_64& rng, const Triangle& t) {
         v = 1 - v;
     }
     return t.a + (t.b - t.a) * u + (t.c - t.a) * v;
-}
-
-inline std::string str(const Vec3& v) {
-    std::ostringstream o;
-    o.precision(17);
-    o << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
-    return o.str();
 }
 
 // A car's contact query radius: car radius + contact skin.

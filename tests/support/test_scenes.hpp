@@ -14,6 +14,7 @@
 #include "jetrace/world.hpp"
 #include "lab/scenes.hpp"
 #include "test_seed.hpp"
+#include "vec_str.hpp"
 
 #include <gtest/gtest.h>
 
@@ -23,30 +24,16 @@
 #include <cstdlib>
 #include <random>
 #include <span>
-#include <sstream>
 #include <string>
 #include <vector>
 
 namespace jetrace::test {
-
-// ---------------------------------------------------------------- seeds
-
-inline std::uint64_t base_seed() { return test_seed(0x6a65747261636502ull); }
-
-#define JETRACE_SEEDED_RNG(rng) JETRACE_SEEDED_RNG_WITH(rng, ::jetrace::test::base_seed())
 
 // ---------------------------------------------------------------- scenes
 
 constexpr double kR = 2.5;
 constexpr double kEps = 1.0 / 1024.0;
 constexpr double kRest = kR + kEps;  // resting height above a floor at y = 0
-
-inline std::string str(const Vec3& v) {
-    std::ostringstream o;
-    o.precision(17);
-    o << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
-    return o.str();
-}
 
 // Meshes, physics and scenes come from the study's lab (tools/lab), so that
 // a scenario is written once for the tests and jetrace-bench.

@@ -25,6 +25,9 @@ inline std::uint64_t test_seed(std::uint64_t fallback) {
     return seed;
 }
 
+// The seed of the core's randomised tests (JETRACE_SEEDED_RNG).
+inline std::uint64_t base_seed() { return test_seed(0x6a65747261636501ull); }
+
 }  // namespace jetrace::test
 
 // Declares `std::mt19937_64 rng` seeded with `seed` (a test_seed() call), shows
@@ -34,3 +37,6 @@ inline std::uint64_t test_seed(std::uint64_t fallback) {
     SCOPED_TRACE("JETRACE_TEST_SEED=" + std::to_string(rng##_seed));                               \
     ::testing::Test::RecordProperty("seed", std::to_string(rng##_seed));                           \
     std::mt19937_64 rng(rng##_seed)
+
+// Declares `std::mt19937_64 rng` seeded with base_seed().
+#define JETRACE_SEEDED_RNG(rng) JETRACE_SEEDED_RNG_WITH(rng, ::jetrace::test::base_seed())
