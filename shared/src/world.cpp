@@ -40,53 +40,46 @@ void remove_car(WorldState& state, int slot) { state.cars[static_cast<std::size_
 
 namespace {
 
-// Sizes the scratch for n cars (out of line: it runs once per car count).
+// Sizes the scratch for n cars, every hint cleared (out of line: it runs
+// once per car count).
 [[gnu::noinline]] void resize_scratch(std::size_t n, StepScratch& s) {
-    s.candidates.resize(n);
-    s.contacts.resize(n);
-    s.contacts_at.resize(n);
-    s.contacts_valid.assign(n, 0);
-    s.previous_position.resize(n);
-    s.clear_at.resize(n);
-    s.clear_valid.assign(n, 0);
-    s.pushed_last.assign(n, 0);
-    s.quantized_orientation.resize(n);
-    s.quantized_valid.assign(n, 0);
+    s.cars.clear();
+    s.cars.resize(n);
 }
 
 inline void ensure_scratch(std::size_t n, StepScratch& s) {
-    if (s.candidates.size() != n) resize_scratch(n, s);
+    if (s.cars.size() != n) resize_scratch(n, s);
 }
 
-// Finds the contacts of car i at `position` (ensure_contacts' slow path,
-// out of line so that the common case, the contacts already known, costs a
+// Finds a car's contacts at `position` (ensure_contacts' slow path, out of
+// line so that the common case, the contacts already known, costs a
 // comparison and no call).
-[[gnu::noinline]] void find_contacts_at(const Scene& sc, StepScratch& scr, std::size_t i, const Vec3& position) {
-    Candidates& cand = scr.candidates[i];
-    keep_covered(sc.grid, sc.track, sc.broadphase, position, sc.physics.car_radius_m + sc.physics.contact_skin_m, cand);
-    find_contacts(sc.track, cand, sc.physics, position, scr.contacts[i]);
-    scr.contacts_at[i] = position;
-    scr.contacts_valid[i] = 1;
+[[gnu::noinline]] void find_contacts_at(const Scene& sc, CarScratch& cs, const Vec3& position) {
+    keep_covered(sc.grid, sc.track, sc.broadphase, position, sc.physics.car_radius_m + sc.physics.contact_skin_m,
+                 cs.candidates);
+    find_contacts(sc.track, cs.candidates, sc.physics, position, cs.contacts);
+    cs.contacts_at = position;
+    cs.contacts_valid = true;
 }
 
-// The contacts of car i where it is: kept from the last query if it was at
-// this very position (bit for bit), else found again.
-inline void ensure_contacts(const Scene& sc, StepScratch& scr, std::size_t i, const Vec3& position) {
-    if (scr.contacts_valid[i] && same(scr.contacts_at[i], position)) return;
-    find_contacts_at(sc, scr, i, position);
+// A car's contacts where it is: kept from the last query if it was at this
+// very position (bit for bit), else found again.
+inline void ensure_contacts(const Scene& sc, CarScratch& cs, const Vec3& position) {
+    if (cs.contacts_valid && same(cs.contacts_at, position)) return;
+    find_contacts_at(sc, cs, position);
 }
 
-// Rounds car i's orientation to the wire resolution, unless it is bit for
+// Rounds a car's orientation to the wire resolution, unless it is bit for
 // bit what the last rounding produced (rounding is idempotent: a car that
 // did not turn this step keeps its bits).
-void quantize_orientation_cached(StepScratch& scr, std::size_t i, CarState& car) {
-    if (scr.quantized_valid[i] &&
-        std::memcmp(scr.quantized_orientation[i].coeffs().data(), car.orientation.coeffs().data(), 4 * sizeof(double)) == 0) {
+void quantize_orientation_cached(CarScratch& cs, CarState& car) {
+    if (cs.quantized_valid &&
+        std::memcmp(cs.quantized_orientation.coeffs().data(), car.orientation.coeffs().data(), 4 * sizeof(double)) == 0) {
         return;
     }
     quantize_orientation(car);
-    scr.quantized_orientation[i] = car.orientation;
-    scr.quantized_valid[i] = 1;
+    cs.quantized_orientation = car.orientation;
+    cs.quantized_valid = true;
 }
 
 // Phase 1: sense contacts, apply controls and forces, integrate.
@@ -96,7 +89,8 @@ void drive_phase(const Scene& sc, WorldState& st, std::span<const Input> inputs,
     for (std::size_t i = 0; i < st.cars.size(); ++i) {
         CarState& car = st.cars[i];
         if (!car.active) continue;
-        scr.previous_position[i] = car.position;
+        CarScratch& cs = scr.cars[i];
+        cs.previous_position = car.position;
         Input in{};
         if (!racing || car.finished) {
             in.brake = 1;
@@ -105,7 +99,7 @@ void drive_phase(const Scene& sc, WorldState& st, std::span<const Input> inputs,
         }
         const double travel = car.velocity.norm() * ps.dt_s();
         const double reach = ps.car_radius_m + ps.contact_skin_m + travel + kGatherMargin_m;
-        Candidates& cand = scr.candidates[i];
+        Candidates& cand = cs.candidates;
         const double ahead = travel * kGatherLookahead_steps;
         cand.lookahead = car.velocity * (ps.dt_s() * kGatherLookahead_steps);
         if (ahead > kGatherLookaheadMax_m) cand.lookahead *= kGatherLookaheadMax_m / ahead;
@@ -118,9 +112,9 @@ void drive_phase(const Scene& sc, WorldState& st, std::span<const Input> inputs,
                                         : reach;
             gather_candidates(sc.grid, sc.track, sc.broadphase, car.position, gather_m, cand);
         }
-        ensure_contacts(sc, scr, i, car.position);
+        ensure_contacts(sc, cs, car.position);
         const Vec3 v0 = car.velocity;
-        apply_controls_and_forces(ps, scr.contacts[i], in, car);
+        apply_controls_and_forces(ps, cs.contacts, in, car);
         integrate(ps, v0, car);
     }
 }
@@ -133,6 +127,7 @@ void resolve_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
     for (std::size_t i = 0; i < st.cars.size(); ++i) {
         CarState& car = st.cars[i];
         if (!car.active) continue;
+        CarScratch& cs = scr.cars[i];
         // Rounded to the wire resolution before the push-out, which then
         // checks the car where the step leaves it (resolve() rounds again
         // after any push).
@@ -141,23 +136,22 @@ void resolve_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
         // clear of every triangle, and only the position decides that (if
         // the step's motion needs no sweep, which also depends on where the
         // car came from).
-        if (scr.clear_valid[i] && same(scr.clear_at[i], car.position) &&
-            !needs_sweep(sc.physics, scr.previous_position[i], car.position)) {
+        if (cs.clear_valid && same(cs.clear_at, car.position) &&
+            !needs_sweep(sc.physics, cs.previous_position, car.position)) {
             continue;
         }
-        const ResolveStats r = resolve(sc.track, sc.grid, sc.broadphase, sc.physics, scr.previous_position[i],
-                                       car.position, car.velocity, scr.candidates[i], scr.contacts[i],
-                                       scr.pushed_last[i] != 0);
-        scr.pushed_last[i] = r.pushes > 0 ? 1 : 0;
+        const ResolveStats r = resolve(sc.track, sc.grid, sc.broadphase, sc.physics, cs.previous_position,
+                                       car.position, car.velocity, cs.candidates, cs.contacts, cs.pushed_last);
+        cs.pushed_last = r.pushes > 0;
         // The pass that found the car clear found its contacts there too.
-        scr.contacts_valid[i] = r.found_contacts ? 1 : 0;
-        scr.contacts_at[i] = car.position;
+        cs.contacts_valid = r.found_contacts;
+        cs.contacts_at = car.position;
         scr.pushes += r.pushes;
         scr.max_passes = std::max(scr.max_passes, r.passes);
         scr.capped += r.capped ? 1 : 0;
         // Fewer pushing passes than allowed: the last pass found nothing touching.
-        scr.clear_valid[i] = r.passes < sc.physics.resolver_passes ? 1 : 0;
-        scr.clear_at[i] = car.position;
+        cs.clear_valid = r.passes < sc.physics.resolver_passes;
+        cs.clear_at = car.position;
     }
 }
 
@@ -170,10 +164,11 @@ void rules_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
     for (std::size_t i = 0; i < st.cars.size(); ++i) {
         CarState& car = st.cars[i];
         if (!car.active) continue;
-        apply_race_rules(sc.track, ps, st.laps, st.tick, st.tick >= st.start_tick, scr.previous_position[i], car);
-        ensure_contacts(sc, scr, i, car.position);
-        align_to_contacts(ps, scr.contacts[i], car);
-        if (ps.quantize_state) quantize_orientation_cached(scr, i, car);
+        CarScratch& cs = scr.cars[i];
+        apply_race_rules(sc.track, ps, st.laps, st.tick, st.tick >= st.start_tick, cs.previous_position, car);
+        ensure_contacts(sc, cs, car.position);
+        align_to_contacts(ps, cs.contacts, car);
+        if (ps.quantize_state) quantize_orientation_cached(cs, car);
     }
 }
 

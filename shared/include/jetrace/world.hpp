@@ -39,27 +39,34 @@ struct WorldState {
     std::vector<CarState> cars;
 };
 
-/// Per-step scratch owned by the caller; results never depend on its contents.
-struct StepScratch {
-    std::vector<Candidates> candidates;
-    /// Contacts of each car at the end of the last step, and the position
+/// One car's part of the step scratch (one struct per car, so that a phase
+/// reaches all of a car's scratch through one pointer).
+struct CarScratch {
+    Candidates candidates;
+    /// Contacts of the car at the end of the last step, and the position
     /// they were found at: reused by the next step only if the car is still
     /// exactly there (bit for bit), else found again.
-    std::vector<Contacts> contacts;
-    std::vector<Vec3> contacts_at;
-    std::vector<std::uint8_t> contacts_valid;
-    std::vector<Vec3> previous_position;
-    /// A position the resolver last left each car at, clear of the track:
-    /// a car found there again (at rest) needs no push-out test.
-    std::vector<Vec3> clear_at;
-    std::vector<std::uint8_t> clear_valid;
-    /// Whether each car was pushed out in its last resolve (a hint that
-    /// saves work, never changes a result; see resolve()).
-    std::vector<std::uint8_t> pushed_last;
-    /// The orientation each car's last rounding produced: a car found with
+    Contacts contacts;
+    Vec3 contacts_at{0, 0, 0};
+    bool contacts_valid = false;
+    Vec3 previous_position{0, 0, 0};
+    /// A position the resolver last left the car at, clear of the track: a
+    /// car found there again (at rest) needs no push-out test.
+    Vec3 clear_at{0, 0, 0};
+    bool clear_valid = false;
+    /// Whether the car was pushed out in its last resolve (a hint that saves
+    /// work, never changes a result; see resolve()).
+    bool pushed_last = false;
+    /// The orientation the car's last rounding produced: a car found with
     /// exactly these bits (one that did not turn) needs no rounding.
-    std::vector<Quat> quantized_orientation;
-    std::vector<std::uint8_t> quantized_valid;
+    Quat quantized_orientation{1, 0, 0, 0};
+    bool quantized_valid = false;
+};
+
+/// Per-step scratch owned by the caller; results never depend on its contents.
+struct StepScratch {
+    /// One per car slot.
+    std::vector<CarScratch> cars;
     /// Push-outs, most pushing passes of one car, and capped resolves in the
     /// last step (diagnostics).
     int pushes = 0;
