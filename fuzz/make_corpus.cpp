@@ -74,6 +74,8 @@ void messages(const std::vector<Bytes>& worlds, const std::vector<std::uint32_t>
     const std::vector<std::uint8_t> token(jp::kTokenBytes, 0xA5);
     put("message_decode", "hello", jp::encode(jp::Hello{jp::kProtocolVersion, "racer", {}, {}}));
     put("message_decode", "hello_token", jp::encode(jp::Hello{jp::kProtocolVersion, "Zoë", token, {}}));
+    const std::vector<std::uint8_t> connect_token(jp::kMaxConnectTokenBytes, 0x5A);
+    put("message_decode", "hello_connect_token", jp::encode(jp::Hello{jp::kProtocolVersion, "racer", {}, connect_token}));
     jp::Welcome welcome;
     welcome.slot = 3;
     welcome.max_players = 8;

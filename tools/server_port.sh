@@ -1,5 +1,5 @@
 # Sourced by scripts that start jetrace-server with --port 0: waits (up to
-# 10 s) for its first line "listening on ADDR:PORT" in LOG and prints PORT.
+# 10 s) for its line "listening on ADDR:PORT" in LOG and prints PORT.
 # Usage: port="$(server_port LOG)" || exit 1
 server_port() {
   local log="$1" port=""
