@@ -25,8 +25,7 @@ bool ReplayWriter::open(const std::string& path, const ReplayHeader& h, std::str
         error = "cannot create replay file '" + path + "': " + std::strerror(errno);
         return false;
     }
-    buffer_.clear();
-    buffer_.insert(buffer_.end(), std::begin(kMagic), std::end(kMagic));
+    buffer_.assign(std::begin(kMagic), std::end(kMagic));
     put_u16(buffer_, kVersion);
     put_u16(buffer_, static_cast<std::uint16_t>(h.track_name.size()));
     buffer_.insert(buffer_.end(), h.track_name.begin(), h.track_name.end());
