@@ -10,7 +10,10 @@
 # Environment (defaults: the 10-minute soak):
 #   JETRACE_SOAK_SECONDS (600)   run this long, then stop after the race in progress
 #   JETRACE_SOAK_RACES (0)       if > 0: exactly this many races instead
-#   JETRACE_SOAK_BOTS (64)       bots, all in every race
+#   JETRACE_SOAK_BOTS (16)       bots, all in every race (1..64). Each bot
+#                                steps every car 120 times a second: 64 bots
+#                                need about 8 cores to keep real time
+#                                (docs/PERFORMANCE.md), 16 fit in 2
 #   JETRACE_SOAK_BOTS_PER_PROCESS (8)
 #   JETRACE_SOAK_LOSS (0.05)     loss per direction
 #   JETRACE_SOAK_LATENCY_MS (35), JETRACE_SOAK_JITTER_MS (30): one-way delay
@@ -32,7 +35,7 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 bin="${JETRACE_BUILD_DIR:-$root/build}"
 seconds="${JETRACE_SOAK_SECONDS:-600}"
 races="${JETRACE_SOAK_RACES:-0}"
-bots="${JETRACE_SOAK_BOTS:-64}"
+bots="${JETRACE_SOAK_BOTS:-16}"
 per_process="${JETRACE_SOAK_BOTS_PER_PROCESS:-8}"
 loss="${JETRACE_SOAK_LOSS:-0.05}"
 latency="${JETRACE_SOAK_LATENCY_MS:-35}"
