@@ -43,9 +43,12 @@ std::nullopt_t fail(std::string* error, const char* what) {
 
 /// Domain, then the token's bytes without the signature.
 std::vector<std::uint8_t> signed_message(const ConnectToken& t) {
-    std::vector<std::uint8_t> bytes = serialize(t);
-    bytes.resize(bytes.size() - kSignatureBytes);
-    bytes.insert(bytes.begin(), kDomain.begin(), kDomain.end());
+    const std::vector<std::uint8_t> token = serialize(t);
+    assert(token.size() >= kSignatureBytes);  // serialize() always writes the signature last
+    const std::size_t signed_bytes = token.size() - kSignatureBytes;
+    std::vector<std::uint8_t> bytes(kDomain.size() + signed_bytes);
+    std::memcpy(bytes.data(), kDomain.data(), kDomain.size());
+    std::memcpy(bytes.data() + kDomain.size(), token.data(), signed_bytes);
     return bytes;
 }
 
