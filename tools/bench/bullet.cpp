@@ -188,6 +188,7 @@ void print(nlohmann::json& j, const std::vector<double>& ours, const std::vector
     if (!theirs.empty()) {
         j["bullet_ns_per_step"] = median(theirs);
         j["bullet_over_jetrace"] = median(theirs) / median(ours);
+        j["bullet_over_jetrace_by_round"] = median_ratio(theirs, ours);
         j["bullet_min_ns_per_step"] = *std::min_element(theirs.begin(), theirs.end());
         j["bullet_runs_ns"] = theirs;
     }
@@ -230,6 +231,7 @@ void straight_scenario(const char* name, const Straight& s, const BulletOptions&
     j["bullet_internal_edges_airborne_fraction"] = fixed_ex.theirs_airborne_fraction;
     j["bullet_internal_edges_ns_per_step"] = median(fixed_ns);
     j["bullet_internal_edges_over_jetrace"] = median(fixed_ns) / median(ours);
+    j["bullet_internal_edges_over_jetrace_by_round"] = median_ratio(fixed_ns, ours);
     j["bullet_internal_edges_runs_ns"] = fixed_ns;
     print(j, ours, theirs);
 }
@@ -311,6 +313,7 @@ void thin_wall_scenario(const BulletOptions& o, const PhysicsSettings& ps) {
     j["bullet_limit_mps"] = lim_plain.holds_to_mps;
     j["bullet_noccd_ns_per_step"] = median(theirs);
     j["bullet_noccd_over_jetrace_discrete"] = median(theirs) / median(ours_discrete);
+    j["bullet_noccd_over_jetrace_discrete_by_round"] = median_ratio(theirs, ours_discrete);
     print(j, ours, theirs_ccd);  // the default mode against Bullet with CCD
 }
 

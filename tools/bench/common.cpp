@@ -1,6 +1,7 @@
 #include "bench/common.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <ctime>
 #include <stdexcept>
 
@@ -26,6 +27,14 @@ double median(std::vector<double> v) {
     std::sort(v.begin(), v.end());
     const std::size_t n = v.size();
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double median_ratio(const std::vector<double>& num, const std::vector<double>& den) {
+    assert(num.size() == den.size());
+    std::vector<double> r;
+    r.reserve(num.size());
+    for (std::size_t i = 0; i < num.size(); ++i) r.push_back(num[i] / den[i]);
+    return median(std::move(r));
 }
 
 Vec3 fly(const PhysicsSettings& ps, double seconds) {

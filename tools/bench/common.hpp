@@ -39,6 +39,12 @@ private:
 
 double median(std::vector<double> v);
 
+/// Median over rounds of num[i] / den[i]: the ratio of two timings taken
+/// side by side in each round, which the machine's drift between rounds
+/// does not move (the ratio of the medians can pair a fast round's
+/// numerator with a slow round's denominator). Requires equal sizes.
+double median_ratio(const std::vector<double>& num, const std::vector<double>& den);
+
 /// One car in free flight (no track contact) for `seconds` from a fixed
 /// launch at (0, 500, 0) with velocity (80, 30, 10) m/s; the final position.
 Vec3 fly(const PhysicsSettings& ps, double seconds);
