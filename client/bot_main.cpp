@@ -5,6 +5,7 @@
 // --track file) with the same identity.
 #include "jetrace/auth/connect_token.hpp"
 #include "jetrace/builtin_tracks.hpp"
+#include "jetrace/cli/logging.hpp"
 #include "jetrace/client/race_client.hpp"
 #include "jetrace/driver_ai.hpp"
 #include "jetrace/net/address.hpp"
@@ -13,7 +14,6 @@
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
-#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <chrono>
@@ -78,8 +78,7 @@ int main(int argc, char** argv) {
     app.add_option("--races", races, "leave after this many races")->check(CLI::Range(1, 1000000));
     app.add_option("--track", track_spec, "the .obj file the server uses (built-in tracks are found by name)");
     app.add_option("--seed", seed, "seed for the drivers' skills");
-    app.add_option("--log-level", log_level, "trace, debug, info, warn, error, off")
-        ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
+    jetrace::cli::add_log_level_option(app, log_level);
     app.add_option("--time-scale", time_scale, "run the clock this many times faster than real time (tests)")
         ->check(CLI::Range(0.01, 100.0));
     app.add_option("--max-seconds", max_seconds, "give up after this many wall-clock seconds")
@@ -95,10 +94,7 @@ int main(int argc, char** argv) {
         ->expected(1, 64);
     app.add_option("--token-file", token_file, "file of connect tokens, one a line (with --token: after those)");
     CLI11_PARSE(app, argc, argv);
-    // Logs go to stderr: stdout carries only the bots' JSON lines.
-    spdlog::set_default_logger(spdlog::stderr_color_mt("bot"));
-    spdlog::set_level(spdlog::level::from_str(log_level));
-    spdlog::set_pattern("[%H:%M:%S.%e] [bot] [%l] %v");
+    jetrace::cli::log_to_stderr("bot", log_level);  // stdout carries only the bots' JSON lines
 
     std::string host;
     std::uint16_t port = 0;

@@ -1,5 +1,6 @@
 // jetrace-server: a dedicated authoritative race server over ENet/UDP.
 #include "jetrace/auth/key_file.hpp"
+#include "jetrace/cli/logging.hpp"
 #include "jetrace/net/transport.hpp"
 #include "jetrace/server/race_server.hpp"
 #include "jetrace/server/tick_times.hpp"
@@ -7,7 +8,6 @@
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
-#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -59,8 +59,7 @@ int main(int argc, char** argv) {
     app.add_option("--race-id", cfg.race_id, "private race: connect tokens must name this race (default: none)");
     app.add_option("--results", cfg.results_path, "results JSON file, written atomically at each race's end");
     app.add_option("--record", cfg.record_path, "replay file of the race (jetrace-sim --replay reads it)");
-    app.add_option("--log-level", log_level, "trace, debug, info, warn, error, off")
-        ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
+    jetrace::cli::add_log_level_option(app, log_level);
     app.add_option("--time-scale", time_scale, "run the clock this many times faster than real time (tests)")
         ->check(CLI::Range(0.01, 100.0));
     CLI11_PARSE(app, argc, argv);
@@ -70,11 +69,7 @@ int main(int argc, char** argv) {
     // 4 could miss it (1.25 s of real time) and the race would wait forever
     // for that player.
     cfg.hello_timeout_s = hello_timeout_s * time_scale;
-    // Logs go to stderr: stdout carries only what scripts read (the port, the
-    // results, the JSON figures).
-    spdlog::set_default_logger(spdlog::stderr_color_mt("server"));
-    spdlog::set_level(spdlog::level::from_str(log_level));
-    spdlog::set_pattern("[%H:%M:%S.%e] [server] [%l] %v");
+    jetrace::cli::log_to_stderr("server", log_level);
 
     std::string error;
     if (!key_file.empty()) {

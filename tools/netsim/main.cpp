@@ -6,12 +6,12 @@
 // Each condition applies to both directions unless given per direction
 // (--up-loss: client -> server, --down-loss: server -> client). On SIGINT,
 // SIGTERM or after --duration it prints one JSON line of counters.
+#include "jetrace/cli/logging.hpp"
 #include "jetrace/net/address.hpp"
 #include "udp_proxy.hpp"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
-#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <atomic>
@@ -83,14 +83,9 @@ int main(int argc, char** argv) {
     app.add_option("--idle-timeout", cfg.idle_timeout_s, "forget a client silent for this long (s)")
         ->check(CLI::Range(1.0, 86400.0));
     app.add_option("--max-clients", cfg.max_clients, "most clients served at once")->check(CLI::Range(1, 4096));
-    app.add_option("--log-level", log_level, "trace, debug, info, warn, error, off")
-        ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
+    jetrace::cli::add_log_level_option(app, log_level);
     CLI11_PARSE(app, argc, argv);
-    // Logs go to stderr: stdout carries only what scripts read (the port, the
-    // results, the JSON figures).
-    spdlog::set_default_logger(spdlog::stderr_color_mt("netsim"));
-    spdlog::set_level(spdlog::level::from_str(log_level));
-    spdlog::set_pattern("[%H:%M:%S.%e] [netsim] [%l] %v");
+    jetrace::cli::log_to_stderr("netsim", log_level);
 
     if (!jetrace::net::split_host_port(forward, cfg.forward_host, cfg.forward_port)) {
         std::fprintf(stderr, "jetrace-netsim: --forward must be HOST:PORT, got '%s'\n", forward.c_str());
