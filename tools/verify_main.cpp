@@ -1,0 +1,102 @@
+// jetrace-verify: checks that this platform's build of the core reproduces
+// the pinned results, and prints one JSON line per check. It needs no
+// compiled third-party library, so it builds for x86-64, aarch64 and
+// WebAssembly alike (tools/cross.sh runs it on all three).
+//   jetrace-verify --golden   the race of the golden determinism test
+#include "jetrace/builtin_tracks.hpp"
+#include "jetrace/offline_race.hpp"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+
+namespace {
+
+#if defined(__wasm32__)
+constexpr const char* kPlatform = "wasm32";
+#elif defined(__aarch64__)
+constexpr const char* kPlatform = "aarch64";
+#elif defined(__x86_64__)
+constexpr const char* kPlatform = "x86_64";
+#else
+constexpr const char* kPlatform = "unknown";
+#endif
+
+// The race of tests/test_determinism.cpp's GoldenStadiumRace (whose
+// kGoldenStadiumHash tools/cross.sh compares the printed hash with): 8 AI
+// cars, 60 simulated seconds on `stadium`, skills seed 1, 3 laps, default
+// PhysicsSettings.
+struct AiRace {
+    std::string track = "stadium";
+    int cars = 8;
+    int laps = 3;
+    int seconds = 60;
+    std::uint64_t seed = 1;
+};
+
+struct RaceResult {
+    std::uint64_t state_hash = 0;
+    std::uint64_t car_steps = 0;
+    double wall_ms = 0;
+};
+
+// x to one decimal (prints as such: the nearest double to k / 10).
+double one_decimal(double x) { return std::round(x * 10) / 10; }
+
+// Runs `race` with every car driven by the AI and times the stepping only
+// (not the track's construction).
+bool run_race(const AiRace& race, RaceResult& out) {
+    jetrace::Track track;
+    if (!jetrace::make_builtin_track(race.track, track)) {
+        std::fprintf(stderr, "jetrace-verify: no built-in track %s\n", race.track.c_str());
+        return false;
+    }
+    const jetrace::PhysicsSettings physics;
+    const jetrace::Scene scene = jetrace::Scene::make(std::move(track), physics);
+    jetrace::WorldState state = jetrace::start_race(scene, race.cars, race.laps);
+    const auto skills = jetrace::skills_for(race.cars, race.seed);
+    jetrace::StepScratch scratch;
+    const auto ticks = static_cast<std::uint32_t>(race.seconds * physics.tick_rate_hz);
+
+    const auto t0 = std::chrono::steady_clock::now();
+    jetrace::run_ai(scene, state, skills, ticks, false, scratch);
+    const auto t1 = std::chrono::steady_clock::now();
+
+    out.state_hash = jetrace::state_hash(state);
+    out.car_steps = static_cast<std::uint64_t>(ticks) * static_cast<std::uint64_t>(race.cars);
+    out.wall_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+    return true;
+}
+
+// --golden: prints the golden race's state hash and timing.
+int run_golden() {
+    RaceResult r;
+    if (!run_race(AiRace{}, r)) return 2;
+    nlohmann::ordered_json line;
+    line["mode"] = "golden";
+    line["state_hash"] = jetrace::hash_hex(r.state_hash);
+    line["car_steps"] = r.car_steps;
+    line["wall_ms"] = one_decimal(r.wall_ms);
+    line["ns_per_car_step"] = one_decimal(r.wall_ms * 1e6 / static_cast<double>(r.car_steps));
+    line["platform"] = kPlatform;
+    std::printf("%s\n", line.dump().c_str());
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"jetrace-verify: checks that this platform's core reproduces the pinned results (one JSON line each)"};
+    bool golden = false;
+    app.add_flag("--golden", golden, "run the golden determinism race and print its state hash and timing");
+    CLI11_PARSE(app, argc, argv);
+
+    if (golden) return run_golden();
+    std::fprintf(stderr, "jetrace-verify: nothing to verify\n%s", app.help().c_str());
+    return 2;
+}
