@@ -13,6 +13,8 @@ PACKAGES=(
   libtinyobjloader-dev libbullet-dev libsodium-dev
   # charts, fuzzing runtime
   gnuplot-nox libclang-rt-14-dev
+  # cross-platform determinism (tools/cross.sh): aarch64 under qemu, WebAssembly under node
+  g++-aarch64-linux-gnu qemu-user emscripten nodejs
   # scripts
   python3 procps
 )

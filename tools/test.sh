@@ -5,10 +5,13 @@
 #   3. rebuilds the core and the determinism test with g++ -O0, clang++ -O2
 #      and clang++ -O0 and runs it in each: the pinned golden state hash must
 #      come out the same from every compiler and optimisation level,
-#   4. builds everything with AddressSanitizer + UndefinedBehaviorSanitizer
+#   4. builds jetrace-verify for aarch64 (build-aarch64/, run under qemu) and
+#      WebAssembly (build-wasm/, run under node) and checks that they and the
+#      native build print that same golden state hash (tools/cross.sh),
+#   5. builds everything with AddressSanitizer + UndefinedBehaviorSanitizer
 #      (g++ -O1, asserts on) into build-asan/ and runs the whole CTest suite
 #      there (the fuzz corpus replays included),
-#   5. runs every libFuzzer target for a bounded time (tools/fuzz.sh).
+#   6. runs every libFuzzer target for a bounded time (tools/fuzz.sh).
 # Options: JETRACE_TEST_LABELS="quick" to run only some labels (default: all);
 # JETRACE_FUZZ_SECONDS per fuzz target (default 10).
 set -euo pipefail
@@ -30,6 +33,9 @@ for cfg in "g++ Debug -O0" "clang++ Release -O2" "clang++ Debug -O0"; do
   cmake --build "$dir" -j "$(nproc)" --target test_determinism
   ctest --test-dir "$dir" --output-on-failure
 done
+
+echo "== cross-platform: the golden state hash on x86-64, aarch64 (qemu) and wasm (node) (tools/cross.sh)"
+"$root/tools/cross.sh"
 
 echo "== sanitizers: ASan + UBSan build of the whole suite (build-asan/)"
 asan="$root/build-asan"
