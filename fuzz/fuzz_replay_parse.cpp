@@ -1,49 +1,62 @@
-// parse_replay() on untrusted replay bytes (what read_replay() reads from a
-// file), then what jetrace-sim --replay does with an accepted replay:
-// check_replay() against the scene it names (built-in "ring", default
-// physics: the seed corpus is recorded there) and, if that accepts it,
-// run_replay() over its first kMaxTicks ticks. Invariants: an accepted
-// replay's records are in sequence with one input per slot and removed
-// slots in range; a checked replay re-simulates without a crash or UB.
+// The replay reader on untrusted bytes (what jetrace-sim --verify reads from
+// a file): the Scanner alone, then verify() and synctest() on the built-in
+// "ring" with default physics (the seed corpus is recorded there), as
+// jetrace-sim does. Invariants: every record the scanner hands out is in
+// sequence (ticks consecutive from the initial tick, one input per slot,
+// removed slots in range, checkpoints and keyframes at their tick); a clean
+// end means the trailer was read; every failure has a reason; a verdict is
+// ok exactly when it names no problem, and then the replay was complete.
 #include "fuzz_check.hpp"
-#include "jetrace/builtin_tracks.hpp"
-#include "jetrace/server/replay.hpp"
-#include "jetrace/world.hpp"
+#include "jetrace/replay/scene_for.hpp"
+#include "jetrace/replay/synctest.hpp"
 
 namespace {
 
-/// Ticks re-simulated per input (bounds the time per run).
-constexpr std::size_t kMaxTicks = 64;
+const jetrace::replay::SceneFor& ring() {
+    static const jetrace::replay::SceneFor scenes = jetrace::replay::scene_for(jetrace::replay::load_builtin, "ring");
+    return scenes;
+}
 
-const jetrace::Scene& ring_scene() {
-    static const jetrace::Scene scene = [] {
-        jetrace::Track track;
-        const bool built = jetrace::make_builtin_track("ring", track);
-        JETRACE_FUZZ_CHECK(built);
-        return jetrace::Scene::make(std::move(track), jetrace::PhysicsSettings{});
-    }();
-    return scene;
+void scan(std::span<const std::uint8_t> bytes) {
+    using namespace jetrace::replay;
+    SpanSource src(bytes);
+    Scanner sc(src);
+    Event ev;
+    bool header = false;
+    std::size_t slots = 0;
+    std::uint32_t tick = 0;
+    while (sc.next(ev)) {
+        JETRACE_FUZZ_CHECK(header == (ev.kind != RecordKind::header));
+        if (ev.kind == RecordKind::header) {
+            header = true;
+            slots = ev.header.initial.cars.size();
+            tick = ev.header.initial.tick;
+        } else if (ev.kind == RecordKind::tick) {
+            JETRACE_FUZZ_CHECK(ev.tick.tick == tick++ && ev.tick.inputs.size() == slots);
+            for (std::uint8_t s : ev.tick.removed) JETRACE_FUZZ_CHECK(s < slots);
+        } else if (ev.kind == RecordKind::checkpoint) {
+            JETRACE_FUZZ_CHECK(ev.checkpoint.tick == tick && ev.checkpoint.car_hashes.size() == slots);
+        } else if (ev.kind == RecordKind::keyframe) {
+            JETRACE_FUZZ_CHECK(ev.keyframe.tick == tick && ev.keyframe.cars.size() == slots);
+        }
+        JETRACE_FUZZ_CHECK(sc.tick() == tick);
+    }
+    JETRACE_FUZZ_CHECK(sc.ok() ? sc.complete() : !sc.failure().message.empty());
 }
 
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-    jetrace::Replay replay;
-    std::string error;
-    if (!jetrace::parse_replay(jetrace::fuzz::bytes(data, size), replay, error)) {
-        JETRACE_FUZZ_CHECK(!error.empty());
-        return 0;
-    }
-    const std::size_t slots = replay.header.initial.cars.size();
-    std::uint32_t expected = replay.header.initial.tick;
-    for (const jetrace::ReplayTick& t : replay.ticks) {
-        JETRACE_FUZZ_CHECK(t.tick == expected++ && t.inputs.size() == slots);
-        for (std::uint8_t s : t.removed) JETRACE_FUZZ_CHECK(s < slots);
-    }
-    const jetrace::Scene& scene = ring_scene();
-    if (!jetrace::check_replay(scene, replay, jetrace::physics_fingerprint(scene.physics), error)) return 0;
-    if (replay.ticks.size() > kMaxTicks) replay.ticks.resize(kMaxTicks);
-    const jetrace::WorldState final_state = jetrace::run_replay(scene, replay);
-    JETRACE_FUZZ_CHECK(final_state.cars.size() == slots);
+    using namespace jetrace::replay;
+    const auto bytes = jetrace::fuzz::bytes(data, size);
+    scan(bytes);
+    SpanSource a(bytes);
+    const Verdict v = verify(a, ring());
+    JETRACE_FUZZ_CHECK(v.ok == v.problem.empty());
+    JETRACE_FUZZ_CHECK(!v.ok || v.complete);
+    JETRACE_FUZZ_CHECK(v.ok || !v.message.empty());
+    SpanSource b(bytes);
+    const SynctestReport r = synctest(b, ring(), 4);
+    JETRACE_FUZZ_CHECK(r.ok == r.check.empty());
     return 0;
 }

@@ -1,7 +1,7 @@
 // jetrace-fuzz-corpus DIR: writes the generated seed corpus, DIR/<target>/
 // gen_*, from real encoders and a real race: every message kind, packed
 // payloads, world payloads with and without a baseline, a replay recorded
-// by ReplayWriter, small OBJ tracks. Deterministic (fixed seeds), so
+// by replay::Writer, small OBJ tracks. Deterministic (fixed seeds), so
 // re-running it after a format change rewrites the same file names. Files
 // not named gen_* (crash inputs kept as regressions) are left alone.
 #include "jetrace/builtin_tracks.hpp"
@@ -9,7 +9,7 @@
 #include "jetrace/offline_race.hpp"
 #include "jetrace/proto/messages.hpp"
 #include "jetrace/proto/world_codec.hpp"
-#include "jetrace/server/replay.hpp"
+#include "jetrace/replay/writer.hpp"
 #include "jetrace/track_io.hpp"
 #include "packed_payloads.hpp"
 
@@ -148,12 +148,18 @@ void worlds(const jetrace::Scene& scene) {
 void replay(const jetrace::Scene& scene) {
     const fs::path tmp = fs::temp_directory_path() / ("jetrace-fuzz-corpus-" + std::to_string(::getpid()) + ".jtr");
     jetrace::WorldState state = jetrace::start_race(scene, 2, 1);
-    jetrace::ReplayHeader header{scene.track.name, scene.track.identity(), jetrace::physics_fingerprint(scene.physics),
-                                 static_cast<std::uint16_t>(scene.physics.tick_rate_hz), state};
-    jetrace::ReplayWriter writer;
-    std::string error;
-    if (!writer.open(tmp.string(), header, error)) {
-        std::fprintf(stderr, "jetrace-fuzz-corpus: %s\n", error.c_str());
+    jetrace::replay::Header header;
+    header.track_name = scene.track.name;
+    header.track_identity = scene.track.identity();
+    header.physics_hash = jetrace::physics_fingerprint(scene.physics);
+    header.tick_rate_hz = static_cast<std::uint16_t>(scene.physics.tick_rate_hz);
+    header.checkpoint_every = 4;  // small, so that a short seed has every record kind
+    header.keyframe_every = 8;
+    header.names = {"alice", "bob"};
+    header.initial = state;
+    jetrace::replay::Writer writer;
+    if (!writer.open(tmp.string(), header)) {
+        std::fprintf(stderr, "jetrace-fuzz-corpus: %s\n", writer.error().c_str());
         std::exit(1);
     }
     jetrace::StepScratch scratch;
@@ -161,16 +167,26 @@ void replay(const jetrace::Scene& scene) {
         std::vector<jetrace::Input> inputs;
         for (std::size_t i = 0; i < state.cars.size(); ++i) inputs.push_back(jetrace::drive(scene, state, static_cast<int>(i)));
         const std::vector<std::uint8_t> removed = t == 8 ? std::vector<std::uint8_t>{1} : std::vector<std::uint8_t>{};
-        writer.record(state.tick, removed, inputs);
+        writer.record_tick(state.tick, removed, inputs);
         for (std::uint8_t s : removed) jetrace::remove_car(state, s);
         jetrace::step(scene, state, inputs, scratch);
+        writer.stepped(state);
     }
-    writer.close();
+    jetrace::replay::Trailer trailer;
+    trailer.final_tick = state.tick;
+    trailer.final_state_hash = jetrace::state_hash(state);
+    trailer.reason = jetrace::replay::EndReason::aborted;
+    trailer.results = jetrace::replay::results_of(scene, state);
+    if (!writer.finish(trailer)) {
+        std::fprintf(stderr, "jetrace-fuzz-corpus: %s\n", writer.error().c_str());
+        std::exit(1);
+    }
     std::ifstream in(tmp, std::ios::binary);
     const Bytes bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     fs::remove(tmp);
     put("replay_parse", "ring_2cars", bytes);
     put("replay_parse", "ring_cut_short", Bytes(bytes.begin(), bytes.end() - 3));
+    put("replay_diff", "ring_2cars", bytes);
 }
 
 void tracks() {

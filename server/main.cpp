@@ -22,6 +22,24 @@ namespace {
 std::atomic<int> g_signal{0};
 void on_signal(int sig) { g_signal = sig; }
 
+// --sign-key: the secret key that signs each replay (not the connect-token key).
+bool load_sign_key(const std::string& path, const std::string& record_path, jetrace::server::ServerConfig& cfg) {
+    if (path.empty()) return true;
+    std::string error;
+    jetrace::auth::LoadedKey key;
+    if (record_path.empty()) {
+        error = "--sign-key needs --record";
+    } else if (jetrace::auth::load_key_file(path, key, error) && !key.has_secret) {
+        error = "--sign-key needs a secret key file (jetrace-token keygen's FILE, not FILE.pub)";
+    }
+    if (!error.empty()) {
+        std::fprintf(stderr, "jetrace-server: %s\n", error.c_str());
+        return false;
+    }
+    cfg.replay_sign_key = key.secret;
+    return true;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -35,6 +53,7 @@ int main(int argc, char** argv) {
     double time_scale = 1.0;
     double hello_timeout_s = 5.0;
     std::string key_file;
+    std::string sign_key_file;
     app.add_option("--port", net_cfg.port, "UDP port (0: any free port, printed at start)");
     app.add_option("--bind", net_cfg.bind, "address to bind");
     app.add_option("--track", track_spec, "built-in track (stadium, ring) or a Wavefront .obj file");
@@ -58,7 +77,9 @@ int main(int argc, char** argv) {
                    "private race: admit only connect tokens signed with this key (jetrace-token keygen's FILE.pub)");
     app.add_option("--race-id", cfg.race_id, "private race: connect tokens must name this race (default: none)");
     app.add_option("--results", cfg.results_path, "results JSON file, written atomically at each race's end");
-    app.add_option("--record", cfg.record_path, "replay file of the race (jetrace-sim --replay reads it)");
+    app.add_option("--record", cfg.record_path, "replay file of the race (jetrace-sim --verify checks it)");
+    app.add_option("--sign-key", sign_key_file,
+                   "sign each replay with this secret key (jetrace-token keygen's FILE; keep it apart from --key-file's)");
     jetrace::cli::add_log_level_option(app, log_level);
     app.add_option("--time-scale", time_scale, "run the clock this many times faster than real time (tests)")
         ->check(CLI::Range(0.01, 100.0));
@@ -72,6 +93,7 @@ int main(int argc, char** argv) {
     jetrace::cli::log_to_stderr("server", log_level);
 
     std::string error;
+    if (!load_sign_key(sign_key_file, cfg.record_path, cfg)) return 2;
     if (!key_file.empty()) {
         jetrace::auth::LoadedKey key;
         if (!jetrace::auth::load_key_file(key_file, key, error)) {
@@ -167,6 +189,8 @@ int main(int argc, char** argv) {
     j["bytes_sent_per_s"] = static_cast<double>(totals.bytes_sent) / wall_s;
     j["bytes_received_per_s"] = static_cast<double>(totals.bytes_received) / wall_s;
     j["wall_s"] = wall_s;
+    j["replay_failures"] = server.replay_failures();
     std::printf("%s\n", j.dump().c_str());
-    return 0;
+    // A replay that could not be written whole is a lost result.
+    return server.replay_failures() == 0 ? 0 : 1;
 }

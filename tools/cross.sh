@@ -6,7 +6,11 @@
 # (aarch64 and wasm: JETRACE_PORTABLE_ONLY, Ninja, Release, -O2), runs
 # `jetrace-verify --golden` on each, and fails unless all three print the
 # golden state hash pinned in tests/test_determinism.cpp (kGoldenStadiumHash).
-# Prints the three JSON lines and a summary line. Configures a build directory
+# Then a race of the x86-64 jetrace-server with 3 jetrace-bot drivers (ring, 1
+# lap, 4x real time) is recorded as a signed replay; jetrace-sim --verify
+# --key checks it natively, and jetrace-verify on every platform must find
+# it whole with the server's final state hash (--expect).
+# Prints the JSON lines and a summary line per check. Configures a build directory
 # only when it has not been (Ninja re-runs CMake itself when a CMakeLists.txt
 # changes), so a second run only checks.
 set -euo pipefail
@@ -15,6 +19,7 @@ jobs="${JETRACE_JOBS:-$(nproc)}"
 # emcc's optimizer needs Debian's acorn module, which node does not find by itself.
 export NODE_PATH="/usr/share/nodejs${NODE_PATH:+:$NODE_PATH}"
 platforms=(native aarch64 wasm)
+. "$root/tools/server_port.sh"
 
 fail() { echo "cross: $*" >&2; exit 1; }
 
@@ -75,5 +80,33 @@ check_golden() {
     "wasm/native $(awk -v w="${ns[wasm]}" -v n="${ns[native]}" 'BEGIN { printf "%.2f", w / n }')"
 }
 
+# A live race recorded by the x86-64 server verifies on every platform.
+check_replay() {
+  local out server_pid port server_hash line
+  out="$(mktemp -d)"
+  # shellcheck disable=SC2064  # expand now: out is local
+  trap "kill \$server_pid 2>/dev/null || true; rm -rf '$out'" RETURN
+  "$root/build/tools/jetrace-token" keygen --out "$out/replay.key" >/dev/null
+  "$root/build/server/jetrace-server" --bind 127.0.0.1 --port 0 --track ring --laps 1 --min-players 3 \
+    --max-players 3 --races 1 --time-scale 4 --countdown 1 --record "$out/race.jtr" --sign-key "$out/replay.key" \
+    --log-level warn >"$out/server.log" 2>&1 &
+  server_pid=$!
+  port="$(server_port "$out/server.log")"
+  timeout 120 "$root/build/client/jetrace-bot" --connect "127.0.0.1:$port" --count 3 --time-scale 4 \
+    --max-seconds 100 >"$out/bots.json" 2>"$out/bots.log" || { cat "$out/bots.log" >&2; fail "the bots failed"; }
+  wait "$server_pid" || { cat "$out/server.log" >&2; fail "the server failed"; }
+  server_hash="$(sed -n 's/^state_hash=//p' "$out/server.log" | tail -n 1)"
+  [ "${#server_hash}" -eq 16 ] || fail "the server printed no state_hash"
+  "$root/build/tools/jetrace-sim" --verify "$out/race.jtr" --key "$out/replay.key.pub" --expect "$server_hash" \
+    || fail "native jetrace-sim --verify --key refused the server's replay"
+  for p in "${platforms[@]}"; do
+    line="$(verify "$p" "$out/race.jtr" --expect "$server_hash")" || { echo "$line"; fail "$p: the replay does not verify"; }
+    echo "$line"
+  done
+  echo "cross: replay of a live race ($(stat -c %s "$out/race.jtr") bytes, signed): ${platforms[*]} all verify it" \
+    "with the server's state_hash $server_hash"
+}
+
 build_all
 check_golden
+check_replay

@@ -1,94 +1,34 @@
-// jetrace-sim: an offline race of AI cars, or the re-simulation of a replay.
+// jetrace-sim: an offline race of AI cars (optionally recorded as a
+// replay), or one of the replay checks (sim_replay.hpp).
+#include "jetrace/auth/key_file.hpp"
 #include "jetrace/offline_race.hpp"
 #include "jetrace/race.hpp"
-#include "jetrace/server/replay.hpp"
+#include "jetrace/replay/writer.hpp"
 #include "jetrace/track_io.hpp"
+#include "sim_replay.hpp"
 
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 
 namespace {
 
-// Re-simulates a replay and prints the same state_hash= line as the server.
-int run_replay_file(const std::string& path, std::string track_spec, bool track_given) {
-    jetrace::Replay replay;
-    std::string error;
-    if (!jetrace::read_replay(path, replay, error)) {
-        std::fprintf(stderr, "jetrace-sim: %s\n", error.c_str());
-        return 2;
-    }
-    if (!track_given) track_spec = replay.header.track_name;
-    jetrace::Track track;
-    if (!jetrace::load_track(track_spec, track, error)) {
-        std::fprintf(stderr, "jetrace-sim: %s (pass --track FILE.obj for an imported track)\n", error.c_str());
-        return 2;
-    }
-    jetrace::PhysicsSettings physics;
-    physics.tick_rate_hz = replay.header.tick_rate_hz;
-    if (const std::string e = jetrace::validate(physics); !e.empty()) {
-        std::fprintf(stderr, "jetrace-sim: replay: %s\n", e.c_str());
-        return 2;
-    }
-    const jetrace::Scene scene = jetrace::Scene::make(std::move(track), physics);
-    if (!jetrace::check_replay(scene, replay, jetrace::physics_fingerprint(physics), error)) {
-        std::fprintf(stderr, "jetrace-sim: %s\n", error.c_str());
-        return 2;
-    }
-    const jetrace::WorldState final_state = jetrace::run_replay(scene, replay);
-    std::printf("replay %s: track %s, %zu ticks%s\n", path.c_str(), scene.track.name.c_str(), replay.ticks.size(),
-                replay.truncated ? " (last record cut short, ignored)" : "");
-    std::printf("state_hash=%s\n", jetrace::hash_hex(jetrace::state_hash(final_state)).c_str());
-    return 0;
-}
-
-}  // namespace
-
-int main(int argc, char** argv) {
-    CLI::App app{"jetrace-sim: an offline race of AI cars on the deterministic core"};
-    std::string track_spec = "stadium";
+struct RaceArgs {
+    std::string track = "stadium";
     int cars = 8;
     double seconds = 60;
     std::uint64_t seed = 1;
     int laps = 3;
-    app.add_option("--track", track_spec, "built-in track name (stadium, ring) or a Wavefront .obj file");
-    app.add_option("--cars", cars, "number of AI cars")->check(CLI::Range(1, 64));
-    app.add_option("--seconds", seconds, "simulated seconds")->check(CLI::Range(0.0, 86400.0));
-    app.add_option("--seed", seed, "seed for the AI drivers' skills");
-    app.add_option("--laps", laps, "laps to finish")->check(CLI::Range(1, 1000));
-    std::string replay_path;
-    app.add_option("--replay", replay_path, "re-simulate a replay recorded by jetrace-server --record")
-        ->excludes("--cars")
-        ->excludes("--seconds")
-        ->excludes("--seed")
-        ->excludes("--laps");
-    CLI11_PARSE(app, argc, argv);
-    if (!replay_path.empty()) return run_replay_file(replay_path, track_spec, app.count("--track") > 0);
+    std::string record;
+    std::string sign_key;
+};
 
-    jetrace::Track track;
-    std::string error;
-    if (!jetrace::load_track(track_spec, track, error)) {
-        std::fprintf(stderr, "jetrace-sim: %s\n", error.c_str());
-        return 2;
-    }
-    const jetrace::PhysicsSettings physics;
-    const jetrace::Scene scene = jetrace::Scene::make(std::move(track), physics);
-    jetrace::WorldState state = jetrace::start_race(scene, cars, laps);
-    const auto skills = jetrace::skills_for(cars, seed);
-    jetrace::StepScratch scratch;
-    const auto ticks = static_cast<std::uint32_t>(seconds * physics.tick_rate_hz + 0.5);
-
-    const auto t0 = std::chrono::steady_clock::now();
-    jetrace::run_ai(scene, state, skills, ticks, false, scratch);
-    const auto t1 = std::chrono::steady_clock::now();
-    const double wall_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
-
-    std::printf("track %s: %zu triangles, %zu gates; %d cars, %d laps, %u ticks (%.1f s)\n", scene.track.name.c_str(),
-                scene.track.triangles.size(), scene.track.checkpoints.size(), cars, laps, ticks, seconds);
+void print_standings(const jetrace::Scene& scene, const jetrace::WorldState& state) {
     std::printf("%-4s %-5s %-8s %-5s %-6s %s\n", "pos", "car", "status", "lap", "gate", "time_s");
     int pos = 1;
-    for (const auto& s : jetrace::standings(scene.track, state.cars, state.start_tick, physics.tick_rate_hz)) {
+    for (const auto& s : jetrace::standings(scene.track, state.cars, state.start_tick, scene.physics.tick_rate_hz)) {
         if (s.finished) {
             std::printf("%-4d %-5d %-8s %-5d %-6s %.3f\n", pos, s.slot, "finished", s.lap, "-", s.finish_time_s);
         } else {
@@ -96,8 +36,118 @@ int main(int argc, char** argv) {
         }
         ++pos;
     }
+}
+
+bool open_recording(const RaceArgs& a, const jetrace::Scene& scene, const jetrace::WorldState& start,
+                    jetrace::replay::Writer& w) {
+    std::optional<jetrace::replay::SigningKey> key;
+    std::string error;
+    if (!a.sign_key.empty()) {
+        jetrace::auth::LoadedKey k;
+        if (!jetrace::auth::load_key_file(a.sign_key, k, error) || !k.has_secret) {
+            std::fprintf(stderr, "jetrace-sim: --sign-key: %s\n", error.empty() ? "not a secret key file" : error.c_str());
+            return false;
+        }
+        key = k.secret;
+    }
+    jetrace::replay::Header h;
+    h.track_name = scene.track.name;
+    h.track_identity = scene.track.identity();
+    h.physics_hash = jetrace::physics_fingerprint(scene.physics);
+    h.tick_rate_hz = static_cast<std::uint16_t>(scene.physics.tick_rate_hz);
+    h.initial = start;
+    if (w.open(a.record, h, key)) return true;
+    std::fprintf(stderr, "jetrace-sim: %s\n", w.error().c_str());
+    return false;
+}
+
+bool finish_recording(const jetrace::Scene& scene, const jetrace::WorldState& st, jetrace::replay::Writer& w) {
+    jetrace::replay::Trailer t;
+    t.final_tick = st.tick;
+    t.final_state_hash = jetrace::state_hash(st);
+    bool all = true;
+    for (const auto& c : st.cars) all = all && (!c.active || c.finished);
+    t.reason = all ? jetrace::replay::EndReason::finished : jetrace::replay::EndReason::time_limit;
+    t.results = jetrace::replay::results_of(scene, st);
+    if (w.finish(t)) return true;
+    std::fprintf(stderr, "jetrace-sim: %s\n", w.error().c_str());
+    return false;
+}
+
+int run_race(const RaceArgs& a) {
+    jetrace::Track track;
+    std::string error;
+    if (!jetrace::load_track(a.track, track, error)) {
+        std::fprintf(stderr, "jetrace-sim: %s\n", error.c_str());
+        return 2;
+    }
+    const jetrace::PhysicsSettings physics;
+    const jetrace::Scene scene = jetrace::Scene::make(std::move(track), physics);
+    jetrace::WorldState state = jetrace::start_race(scene, a.cars, a.laps);
+    jetrace::replay::Writer writer;
+    jetrace::replay::Recorder recorder(writer);
+    if (!a.record.empty() && !open_recording(a, scene, state, writer)) return 2;
+    const auto skills = jetrace::skills_for(a.cars, a.seed);
+    jetrace::StepScratch scratch;
+    const auto ticks = static_cast<std::uint32_t>(a.seconds * physics.tick_rate_hz + 0.5);
+
+    const auto t0 = std::chrono::steady_clock::now();
+    jetrace::run_ai(scene, state, skills, ticks, false, scratch, a.record.empty() ? nullptr : &recorder);
+    const auto t1 = std::chrono::steady_clock::now();
+    const double wall_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+
+    std::printf("track %s: %zu triangles, %zu gates; %d cars, %d laps, %u ticks (%.1f s)\n", scene.track.name.c_str(),
+                scene.track.triangles.size(), scene.track.checkpoints.size(), a.cars, a.laps, ticks, a.seconds);
+    print_standings(scene, state);
     std::printf("wall_ms=%.1f car_steps=%llu\n", wall_ms,
-                static_cast<unsigned long long>(ticks) * static_cast<unsigned long long>(cars));
+                static_cast<unsigned long long>(ticks) * static_cast<unsigned long long>(a.cars));
     std::printf("state_hash=%s\n", jetrace::hash_hex(jetrace::state_hash(state)).c_str());
+    if (!a.record.empty() && !finish_recording(scene, state, writer)) return 1;
     return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"jetrace-sim: an offline race of AI cars on the deterministic core, and replay checks"};
+    RaceArgs race;
+    jetrace::sim::ReplayArgs rargs;
+    std::string replay_path, verify_path, synctest_path, expect;
+    std::vector<std::string> diff;
+    bool rebuild = false;
+    const auto finite = CLI::Validator(
+        [](std::string& s) { return std::isfinite(std::stod(s)) ? std::string() : "not a finite number: " + s; }, "FINITE");
+    app.add_option("--track", race.track, "built-in track name (stadium, ring) or a Wavefront .obj file");
+    app.add_option("--cars", race.cars, "number of AI cars")->check(CLI::Range(1, 64));
+    app.add_option("--seconds", race.seconds, "simulated seconds")->check(finite & CLI::Range(0.0, 86400.0));
+    app.add_option("--seed", race.seed, "seed for the AI drivers' skills");
+    app.add_option("--laps", race.laps, "laps to finish")->check(CLI::Range(1, 1000));
+    app.add_option("--record", race.record, "write the offline race as a replay file");
+    app.add_option("--sign-key", race.sign_key, "sign the --record replay with this secret key file")->needs("--record");
+    auto* modes = app.add_option_group("replay checks", "exit 0: the check holds; 1: it does not; 2: bad input");
+    modes->add_option("--replay", replay_path, "re-simulate a replay and print its state_hash=");
+    modes->add_option("--verify", verify_path, "check every record, checkpoint, the trailer and the signature (JSON)");
+    modes->add_option("--diff", diff, "A B: where two replays of one race first differ; A --rebuild: A against this build")
+        ->expected(1, 2);
+    modes->add_option("--synctest", synctest_path, "step every tick twice (fresh scratch, and rollbacks) and compare");
+    modes->require_option(0, 1);
+    app.add_flag("--rebuild", rebuild, "with --diff A: compare A against this build's re-simulation");
+    app.add_option("--key", rargs.key_file, "the replay must be signed by this public key (FILE.pub)");
+    app.add_option("--expect", expect, "the final state hash must be this (16 hex digits)");
+    app.add_option("--rollback", rargs.rollback_ticks, "ticks each --synctest rollback re-simulates")->check(CLI::Range(1, 240));
+    CLI11_PARSE(app, argc, argv);
+    if (!expect.empty() && !(rargs.expect = jetrace::sim::parse_hash(expect))) {
+        std::fprintf(stderr, "jetrace-sim: --expect: '%s' is not 16 hex digits\n", expect.c_str());
+        return 2;
+    }
+    if ((diff.size() == 1) != rebuild) {
+        std::fprintf(stderr, "jetrace-sim: --diff takes two replays, or one with --rebuild\n");
+        return 2;
+    }
+    if (app.count("--track") > 0) rargs.track = race.track;
+    if (!replay_path.empty()) return jetrace::sim::replay_file(replay_path, rargs);
+    if (!verify_path.empty()) return jetrace::sim::verify_file(verify_path, rargs);
+    if (!diff.empty()) return jetrace::sim::diff_files(diff[0], diff.size() > 1 ? diff[1] : "", rargs);
+    if (!synctest_path.empty()) return jetrace::sim::synctest_file(synctest_path, rargs);
+    return run_race(race);
 }

@@ -2,9 +2,13 @@
 // the pinned results, and prints one JSON line per check. It needs no
 // compiled third-party library, so it builds for x86-64, aarch64 and
 // WebAssembly alike (tools/cross.sh runs it on all three).
-//   jetrace-verify --golden   the race of the golden determinism test
+//   jetrace-verify --golden               the race of the golden determinism test
+//   jetrace-verify FILE [--expect HASH]   a replay on a built-in track: every
+//       record, checkpoint, the trailer and (where this build has libsodium)
+//       the signature, as jetrace-sim --verify does; exit 0 only if all hold
 #include "jetrace/builtin_tracks.hpp"
 #include "jetrace/offline_race.hpp"
+#include "jetrace/replay/scene_for.hpp"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -13,6 +17,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 namespace {
@@ -88,15 +93,50 @@ int run_golden() {
     return 0;
 }
 
+// FILE: verifies a replay (the verdict JSON of jetrace-sim --verify, with the platform).
+int run_verify(const std::string& path, const std::string& expect) {
+    namespace replay = jetrace::replay;
+    replay::VerifyOptions options;
+    if (!expect.empty()) {
+        char* end = nullptr;
+        options.expect_hash = std::strtoull(expect.c_str(), &end, 16);
+        if (expect.size() != 16 || *end != '\0') {
+            std::fprintf(stderr, "jetrace-verify: --expect: '%s' is not 16 hex digits\n", expect.c_str());
+            return 2;
+        }
+    }
+    replay::FileSource src;
+    std::string error;
+    if (!src.open(path, error, replay::kMaxFileBytes)) {
+        std::fprintf(stderr, "jetrace-verify: %s\n", error.c_str());
+        return 2;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const replay::Verdict v = replay::verify(src, replay::scene_for(replay::load_builtin), options);
+    const auto t1 = std::chrono::steady_clock::now();
+    nlohmann::ordered_json line;
+    line["mode"] = "verify";
+    line["platform"] = kPlatform;
+    line["wall_ms"] = one_decimal(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    line["verdict"] = nlohmann::json::parse(replay::to_json(v));
+    std::printf("%s\n", line.dump().c_str());
+    return v.ok ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     CLI::App app{"jetrace-verify: checks that this platform's core reproduces the pinned results (one JSON line each)"};
     bool golden = false;
+    std::string replay_path, expect;
     app.add_flag("--golden", golden, "run the golden determinism race and print its state hash and timing");
+    app.add_option("replay", replay_path, "a replay file to verify (built-in tracks only)")->excludes("--golden");
+    app.add_option("--expect", expect, "with a replay: its final state hash must be this (16 hex digits)")
+        ->needs("replay");
     CLI11_PARSE(app, argc, argv);
 
     if (golden) return run_golden();
+    if (!replay_path.empty()) return run_verify(replay_path, expect);
     std::fprintf(stderr, "jetrace-verify: nothing to verify\n%s", app.help().c_str());
     return 2;
 }

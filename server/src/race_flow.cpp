@@ -56,14 +56,20 @@ void RaceServer::start_race() {
     spdlog::info("race {} on '{}': {} players, {} laps, start in {:.1f} s", race_number_, scene_.track.name, players(),
                  config_.laps, config_.countdown_s);
     if (!config_.record_path.empty()) {
-        ReplayHeader h;
+        replay::Header h;
         h.track_name = scene_.track.name;
         h.track_identity = scene_.track.identity();
         h.physics_hash = proto::physics_hash(scene_.physics);
         h.tick_rate_hz = static_cast<std::uint16_t>(scene_.physics.tick_rate_hz);
+        h.race_number = race_number_;
+        h.start_unix_s = unix_time_s_ > 0 ? unix_time_s_ : 0;
+        h.names.assign(world_.cars.size(), std::string());
+        for (const auto& [peer, c] : clients_) {
+            if (c.greeted && c.slot >= 0) h.names[static_cast<std::size_t>(c.slot)] = c.name;
+        }
         h.initial = world_;
-        std::string error;
-        if (!replay_.open(config_.record_path, h, error)) spdlog::error("{}", error);
+        replay_failure_logged_ = false;
+        if (!replay_.open(config_.record_path, h, config_.replay_sign_key)) check_replay_write();
     }
     broadcast_status();
     send_snapshots();
@@ -84,9 +90,11 @@ void RaceServer::step_race() {
         }
         applied_[s] = c.last_input;
     }
-    replay_.record(world_.tick, pending_removals_, applied_);
+    replay_.record_tick(world_.tick, pending_removals_, applied_);
     pending_removals_.clear();
     step(scene_, world_, applied_, scratch_);
+    replay_.stepped(world_);
+    check_replay_write();
 
     if (phase_ == proto::RacePhase::countdown && world_.tick >= world_.start_tick) {
         phase_ = proto::RacePhase::racing;
@@ -105,7 +113,11 @@ void RaceServer::step_race() {
                              world_.tick - first_finish_tick_ >= config_.finish_window_s * rate;
     const bool too_long = world_.tick >= world_.start_tick + config_.max_race_s * rate;
     if (phase_ == proto::RacePhase::racing && (!any || all_finished || window_over || too_long)) {
-        end_race();
+        using replay::EndReason;
+        end_race(!any           ? EndReason::abandoned
+                 : all_finished ? EndReason::finished
+                 : window_over  ? EndReason::finish_window
+                                : EndReason::time_limit);
         return;
     }
     if (world_.tick % static_cast<std::uint32_t>(scene_.physics.tick_rate_hz / config_.snapshot_rate_hz) == 0) {
@@ -213,13 +225,30 @@ void RaceServer::write_results(const RaceEnd& end) const {
     }
 }
 
-void RaceServer::end_race() {
+void RaceServer::check_replay_write() {
+    if (replay_.error().empty() || replay_failure_logged_) return;
+    replay_failure_logged_ = true;
+    ++replay_failures_;
+    spdlog::error("race {}: {}", race_number_, replay_.error());
+}
+
+void RaceServer::end_race(replay::EndReason reason) {
     RaceEnd end;
     end.race_number = race_number_;
     end.ticks = world_.tick;
     end.state_hash = state_hash(world_);
     end.standings = current_standings();
-    replay_.close();
+    if (replay_.is_open()) {
+        replay::Trailer t;
+        t.final_tick = world_.tick;
+        t.final_state_hash = end.state_hash;
+        t.reason = reason;
+        t.end_unix_s = unix_time_s_ > 0 ? unix_time_s_ : 0;
+        t.removed = pending_removals_;
+        t.results = replay::results_of(scene_, world_);
+        replay_.finish(t);
+    }
+    check_replay_write();
     write_results(end);
     spdlog::info("race {} over after {} ticks", race_number_, end.ticks);
     if (on_race_end) on_race_end(end);
@@ -242,10 +271,10 @@ void RaceServer::end_race() {
 
 void RaceServer::shutdown(const std::string& reason) {
     if (done_) return;
-    if (phase_ == proto::RacePhase::countdown || phase_ == proto::RacePhase::racing) end_race();
+    if (phase_ == proto::RacePhase::countdown || phase_ == proto::RacePhase::racing) end_race(replay::EndReason::aborted);
     if (done_) return;
     done_ = true;
-    replay_.close();
+    replay_.abandon();
     for (const auto& [peer, c] : clients_) {
         send(peer, net::Channel::reliable, proto::Goodbye{reason});
         transport_.disconnect(peer);

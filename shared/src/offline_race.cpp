@@ -22,8 +22,8 @@ WorldState start_race(const Scene& scene, int cars, int laps) {
     return st;
 }
 
-void run_ai(const Scene& scene, WorldState& state, const std::vector<DriverSkill>& skills, std::uint32_t ticks,
-            bool stop_when_finished, StepScratch& scratch) {
+std::uint32_t run_ai(const Scene& scene, WorldState& state, const std::vector<DriverSkill>& skills, std::uint32_t ticks,
+                     bool stop_when_finished, StepScratch& scratch, StepObserver* observer) {
     std::vector<Input> inputs(state.cars.size());
     for (std::uint32_t t = 0; t < ticks; ++t) {
         bool all_done = true;
@@ -32,9 +32,12 @@ void run_ai(const Scene& scene, WorldState& state, const std::vector<DriverSkill
             inputs[i] = drive(scene, state, static_cast<int>(i), skill);
             if (state.cars[i].active && !state.cars[i].finished) all_done = false;
         }
-        if (stop_when_finished && all_done) return;
+        if (stop_when_finished && all_done) return t;
+        if (observer) observer->before_step(state, inputs);
         step(scene, state, inputs, scratch);
+        if (observer) observer->after_step(state);
     }
+    return ticks;
 }
 
 }  // namespace jetrace

@@ -1,11 +1,13 @@
 #include "jetrace/world.hpp"
 
+#include "jetrace/car_fields.hpp"
 #include "jetrace/race.hpp"
 
 #include <algorithm>
 #include <cassert>
 #include <cstdio>
 #include <cstring>
+#include <type_traits>
 
 namespace jetrace {
 
@@ -184,22 +186,19 @@ void step(const Scene& scene, WorldState& state, std::span<const Input> inputs, 
 }
 
 void hash_car(Fnv1a& h, const CarState& c) {
-    h.u8(c.active ? 1 : 0);
-    h.u8(c.finished ? 1 : 0);
-    h.vec3(c.position);
-    h.vec3(c.velocity);
-    h.f64(c.orientation.w());
-    h.f64(c.orientation.x());
-    h.f64(c.orientation.y());
-    h.f64(c.orientation.z());
-    h.i32(c.next_checkpoint);
-    h.i32(c.lap);
-    h.i32(c.respawn_checkpoint);
-    h.u32(c.finish_tick);
-    h.f64(c.finish_fraction);
-    h.u32(c.respawns);
-    h.i32(c.best_gate_distance_m);
-    h.u32(c.no_progress_ticks);
+    visit_car_fields(c, [&h](const char*, auto value) {
+        using T = decltype(value);
+        if constexpr (std::is_same_v<T, bool>) {
+            h.u8(value ? 1 : 0);
+        } else if constexpr (std::is_same_v<T, double>) {
+            h.f64(value);
+        } else if constexpr (std::is_same_v<T, std::int32_t>) {
+            h.i32(value);
+        } else {
+            static_assert(std::is_same_v<T, std::uint32_t>);
+            h.u32(value);
+        }
+    });
 }
 
 std::uint64_t car_hash(const CarState& c) {

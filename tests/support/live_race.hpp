@@ -13,6 +13,7 @@
 #include "jetrace/client/race_client.hpp"
 #include "jetrace/driver_ai.hpp"
 #include "jetrace/offline_race.hpp"
+#include "jetrace/replay/diff.hpp"
 #include "jetrace/server/race_server.hpp"
 #include "raw_client.hpp"
 #include "severable.hpp"
@@ -22,6 +23,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -283,15 +285,21 @@ public:
         }
         return false;
     }
-    /// The final state hash of re-simulating the recorded replay (nullopt:
-    /// unreadable or not recorded).
+    /// The final state hash of verifying the recorded replay (nullopt:
+    /// unreadable, failing verification, or not recorded). A failure prints
+    /// what jetrace-sim --diff REPLAY --rebuild would.
     std::optional<std::uint64_t> replay_hash() const {
-        Replay replay;
+        replay::FileSource src;
         std::string why;
-        if (replay_path_.empty() || !read_replay(replay_path_, replay, why) ||
-            !check_replay(*scene_, replay, physics_fingerprint(scene_->physics), why))
+        if (replay_path_.empty() || !src.open(replay_path_, why, replay::kMaxFileBytes)) return std::nullopt;
+        const Scene* scene = scene_.get();
+        const replay::Verdict v = replay::verify(src, [scene](const replay::Header&, std::string&) { return scene; });
+        if (!v.ok) {
+            std::fprintf(stderr, "replay verdict: %s\nas --diff --rebuild: %s\n", replay::to_json(v).c_str(),
+                         replay::to_json(replay::diff_against_build(v)).c_str());
             return std::nullopt;
-        return state_hash(run_replay(*scene_, replay));
+        }
+        return v.state_hash;
     }
 
     /// What step() passes the server as the wall clock (unit: s since 1970; -1: nothing).

@@ -11,7 +11,8 @@
 #include "jetrace/net/transport.hpp"
 #include "jetrace/proto/messages.hpp"
 #include "jetrace/proto/world_codec.hpp"
-#include "jetrace/server/replay.hpp"
+#include "jetrace/replay/format.hpp"
+#include "jetrace/replay/writer.hpp"
 #include "jetrace/world.hpp"
 
 #include <array>
@@ -55,6 +56,8 @@ struct ServerConfig {
     std::string results_path;
     /// Replay of each race (overwritten by the next race) ("" = none).
     std::string record_path;
+    /// Signs each replay with this Ed25519 secret key (unset = unsigned).
+    std::optional<replay::SigningKey> replay_sign_key;
     /// A player whose connection drops without a Goodbye keeps its slot, and
     /// its car (driven with neutral inputs), this long for a Hello with its
     /// reconnect token; 0 frees the slot at once (unit: s).
@@ -98,6 +101,8 @@ public:
     proto::RacePhase phase() const { return phase_; }
     const WorldState& world() const { return world_; }
     std::uint32_t races_completed() const { return races_completed_; }
+    /// Replays whose writing failed (each logged with what was lost).
+    std::uint32_t replay_failures() const { return replay_failures_; }
     std::uint64_t ticks() const { return ticks_; }
     int max_players_seen() const { return max_players_seen_; }
     int players() const;
@@ -165,7 +170,8 @@ private:
     void tick();
     void step_race();
     void start_race();
-    void end_race();
+    void end_race(replay::EndReason reason);
+    void check_replay_write();
     void send_snapshots();
     std::vector<proto::StandingEntry> current_standings() const;
     void write_results(const RaceEnd& end) const;
@@ -203,7 +209,9 @@ private:
     std::uint32_t first_finish_tick_ = proto::kNoTick;
     std::uint64_t results_until_us_ = 0;
     std::array<std::pair<std::uint32_t, proto::WorldSnapshot>, kHistory> history_{};
-    ReplayWriter replay_;
+    replay::Writer replay_;
+    std::uint32_t replay_failures_ = 0;
+    bool replay_failure_logged_ = false;
     std::uint64_t ticks_ = 0;
     int max_players_seen_ = 0;
     bool done_ = false;

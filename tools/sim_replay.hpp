@@ -1,0 +1,35 @@
+// jetrace-sim's replay modes: --replay, --verify, --diff and --synctest.
+// Exit codes: 0 the check holds, 1 it does not (the JSON says why), 2 bad
+// arguments or a file that cannot be read at all.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace jetrace::sim {
+
+struct ReplayArgs {
+    /// --track: the track file when the replay's track is not built in ("" = the replay's own).
+    std::string track;
+    /// --key: the signature must be by this public key file.
+    std::string key_file;
+    /// --expect: the final state hash must be this (16 hex digits).
+    std::optional<std::uint64_t> expect;
+    /// --rollback: ticks rolled back by --synctest.
+    int rollback_ticks = 8;
+};
+
+/// Re-simulates a replay, prints "replay FILE: ..." and state_hash=.
+int replay_file(const std::string& path, const ReplayArgs& args);
+/// Prints the verdict JSON of verify().
+int verify_file(const std::string& path, const ReplayArgs& args);
+/// Prints the desync finder's JSON; `b` empty: against this build (--rebuild).
+int diff_files(const std::string& a, const std::string& b, const ReplayArgs& args);
+/// Prints SyncTest's JSON.
+int synctest_file(const std::string& path, const ReplayArgs& args);
+
+/// Parses 16 hex digits; nullopt otherwise.
+std::optional<std::uint64_t> parse_hash(const std::string& text);
+
+}  // namespace jetrace::sim
