@@ -6,6 +6,8 @@
 //   bullet       side by side with Bullet (tools/bench/bullet.cpp; only when
 //                built with Bullet).
 #include "bench/common.hpp"
+#include "bench/replay_cost.hpp"
+#include "jetrace/cli/finite.hpp"
 #include "bench/study.hpp"
 #include "jetrace/builtin_tracks.hpp"
 #include "jetrace/world.hpp"
@@ -136,6 +138,13 @@ int main(int argc, char** argv) {
     study->add_flag("--quick", study_opts.quick, "fewer variants and shorter runs (under a minute)");
     study->add_option("--repeats", study_opts.repeats, "runs per timed variant; the median is reported")
         ->check(CLI::Range(1, 50));
+    jetrace::bench::ReplayCostOptions replay_opts;
+    auto* replay = app.add_subcommand("replay", "replay format costs: bytes per tick, recording overhead, verify time");
+    replay->add_option("--cars", replay_opts.cars, "AI cars")->check(CLI::Range(1, 64));
+    replay->add_option("--seconds", replay_opts.seconds, "simulated race length (s)")
+        ->check(jetrace::cli::finite() & CLI::Range(1.0, 3600.0));
+    replay->add_option("--repeats", replay_opts.repeats, "rounds; medians are reported")->check(CLI::Range(1, 50));
+    replay->add_option("--dir", replay_opts.dir, "directory for the replay files (default: the temporary directory)");
 #ifdef JETRACE_HAVE_BULLET
     jetrace::bench::BulletOptions bullet_opts;
     auto* bullet = app.add_subcommand("bullet", "the same scenarios in Bullet and in jetrace, in one run: JSON lines");
@@ -145,6 +154,7 @@ int main(int argc, char** argv) {
     if (seed->parsed()) return run_seed(frames, repeats, !no_grid_off);
     if (integrators->parsed()) return run_integrators();
     if (study->parsed()) return jetrace::bench::run_study(study_opts);
+    if (replay->parsed()) return jetrace::bench::run_replay_cost(replay_opts);
 #ifdef JETRACE_HAVE_BULLET
     if (bullet->parsed()) return jetrace::bench::run_bullet(bullet_opts);
 #endif

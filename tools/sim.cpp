@@ -1,6 +1,7 @@
 // jetrace-sim: an offline race of AI cars (optionally recorded as a
 // replay), or one of the replay checks (sim_replay.hpp).
 #include "jetrace/auth/key_file.hpp"
+#include "jetrace/cli/finite.hpp"
 #include "jetrace/offline_race.hpp"
 #include "jetrace/race.hpp"
 #include "jetrace/replay/writer.hpp"
@@ -10,7 +11,6 @@
 #include <CLI/CLI.hpp>
 
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 
 namespace {
@@ -115,11 +115,9 @@ int main(int argc, char** argv) {
     std::string replay_path, verify_path, synctest_path, expect;
     std::vector<std::string> diff;
     bool rebuild = false;
-    const auto finite = CLI::Validator(
-        [](std::string& s) { return std::isfinite(std::stod(s)) ? std::string() : "not a finite number: " + s; }, "FINITE");
     app.add_option("--track", race.track, "built-in track name (stadium, ring) or a Wavefront .obj file");
     app.add_option("--cars", race.cars, "number of AI cars")->check(CLI::Range(1, 64));
-    app.add_option("--seconds", race.seconds, "simulated seconds")->check(finite & CLI::Range(0.0, 86400.0));
+    app.add_option("--seconds", race.seconds, "simulated seconds")->check(jetrace::cli::finite() & CLI::Range(0.0, 86400.0));
     app.add_option("--seed", race.seed, "seed for the AI drivers' skills");
     app.add_option("--laps", race.laps, "laps to finish")->check(CLI::Range(1, 1000));
     app.add_option("--record", race.record, "write the offline race as a replay file");

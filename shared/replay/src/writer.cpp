@@ -30,12 +30,13 @@ bool Writer::open(const std::string& path, const Header& header, const std::opti
         return false;
     }
     sign_key_ = sign_key;
-    signed_.emplace();
+    signed_.reset();
+    if (sign_key_) signed_.emplace();
     initial_tick_ = header.initial.tick;
     checkpoint_every_ = header.checkpoint_every;
     keyframe_every_ = header.keyframe_every;
     buffer_.assign(kMagic.begin(), kMagic.end());
-    signed_->update(kMagic);
+    if (signed_) signed_->update(kMagic);
     payload_.clear();
     encode(header, payload_);
     put(RecordKind::header);
@@ -46,7 +47,7 @@ bool Writer::open(const std::string& path, const Header& header, const std::opti
 void Writer::put(RecordKind kind) {
     const std::size_t start = buffer_.size();
     frame(kind, payload_, buffer_);
-    if (kind != RecordKind::signature) signed_->update(std::span(buffer_).subspan(start));
+    if (signed_ && kind != RecordKind::signature) signed_->update(std::span(buffer_).subspan(start));
     payload_.clear();
 }
 
