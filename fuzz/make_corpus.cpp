@@ -148,15 +148,10 @@ void worlds(const jetrace::Scene& scene) {
 void replay(const jetrace::Scene& scene) {
     const fs::path tmp = fs::temp_directory_path() / ("jetrace-fuzz-corpus-" + std::to_string(::getpid()) + ".jtr");
     jetrace::WorldState state = jetrace::start_race(scene, 2, 1);
-    jetrace::replay::Header header;
-    header.track_name = scene.track.name;
-    header.track_identity = scene.track.identity();
-    header.physics_hash = jetrace::physics_fingerprint(scene.physics);
-    header.tick_rate_hz = static_cast<std::uint16_t>(scene.physics.tick_rate_hz);
+    jetrace::replay::Header header = jetrace::replay::header_for(scene, state);
     header.checkpoint_every = 4;  // small, so that a short seed has every record kind
     header.keyframe_every = 8;
     header.names = {"alice", "bob"};
-    header.initial = state;
     jetrace::replay::Writer writer;
     if (!writer.open(tmp.string(), header)) {
         std::fprintf(stderr, "jetrace-fuzz-corpus: %s\n", writer.error().c_str());
@@ -172,12 +167,7 @@ void replay(const jetrace::Scene& scene) {
         jetrace::step(scene, state, inputs, scratch);
         writer.stepped(state);
     }
-    jetrace::replay::Trailer trailer;
-    trailer.final_tick = state.tick;
-    trailer.final_state_hash = jetrace::state_hash(state);
-    trailer.reason = jetrace::replay::EndReason::aborted;
-    trailer.results = jetrace::replay::results_of(scene, state);
-    if (!writer.finish(trailer)) {
+    if (!writer.finish(jetrace::replay::trailer_for(scene, state, jetrace::replay::EndReason::aborted))) {
         std::fprintf(stderr, "jetrace-fuzz-corpus: %s\n", writer.error().c_str());
         std::exit(1);
     }

@@ -56,22 +56,15 @@ Recording record(const Scene& run_on, int cars, double seconds, std::uint64_t se
                  const std::optional<SigningKey>& key = std::nullopt) {
     const std::string path = temp_path("rec_" + std::to_string(seed) + ".jtr");
     WorldState st = start_race(run_on, cars, 2);
-    Header h;
-    h.track_name = run_on.track.name;
-    h.track_identity = run_on.track.identity();
+    Header h = header_for(run_on, st);
     h.physics_hash = physics_fingerprint(PhysicsSettings{});
     h.names.assign(static_cast<std::size_t>(cars), "driver");
-    h.initial = st;
     Writer w;
     EXPECT_TRUE(w.open(path, h, key)) << w.error();
     Recorder rec(w);
     StepScratch scratch;
     run_ai(run_on, st, skills_for(cars, seed), static_cast<std::uint32_t>(seconds * 120), false, scratch, &rec);
-    Trailer t;
-    t.final_tick = st.tick;
-    t.final_state_hash = state_hash(st);
-    t.reason = EndReason::time_limit;
-    t.results = results_of(run_on, st);
+    const Trailer t = trailer_for(run_on, st, EndReason::time_limit);
     EXPECT_TRUE(w.finish(t)) << w.error();
     Recording r{slurp(path), t.final_state_hash};
     std::filesystem::remove(path);

@@ -50,26 +50,16 @@ bool open_recording(const RaceArgs& a, const jetrace::Scene& scene, const jetrac
         }
         key = k.secret;
     }
-    jetrace::replay::Header h;
-    h.track_name = scene.track.name;
-    h.track_identity = scene.track.identity();
-    h.physics_hash = jetrace::physics_fingerprint(scene.physics);
-    h.tick_rate_hz = static_cast<std::uint16_t>(scene.physics.tick_rate_hz);
-    h.initial = start;
-    if (w.open(a.record, h, key)) return true;
+    if (w.open(a.record, jetrace::replay::header_for(scene, start), key)) return true;
     std::fprintf(stderr, "jetrace-sim: %s\n", w.error().c_str());
     return false;
 }
 
 bool finish_recording(const jetrace::Scene& scene, const jetrace::WorldState& st, jetrace::replay::Writer& w) {
-    jetrace::replay::Trailer t;
-    t.final_tick = st.tick;
-    t.final_state_hash = jetrace::state_hash(st);
     bool all = true;
     for (const auto& c : st.cars) all = all && (!c.active || c.finished);
-    t.reason = all ? jetrace::replay::EndReason::finished : jetrace::replay::EndReason::time_limit;
-    t.results = jetrace::replay::results_of(scene, st);
-    if (w.finish(t)) return true;
+    using jetrace::replay::EndReason;
+    if (w.finish(jetrace::replay::trailer_for(scene, st, all ? EndReason::finished : EndReason::time_limit))) return true;
     std::fprintf(stderr, "jetrace-sim: %s\n", w.error().c_str());
     return false;
 }

@@ -32,16 +32,6 @@ private:
     Race* race_;
 };
 
-replay::Header header_of(const Scene& scene, const WorldState& start) {
-    replay::Header h;
-    h.track_name = scene.track.name;
-    h.track_identity = scene.track.identity();
-    h.physics_hash = physics_fingerprint(scene.physics);
-    h.tick_rate_hz = static_cast<std::uint16_t>(scene.physics.tick_rate_hz);
-    h.initial = start;
-    return h;
-}
-
 /// Steps the race (and records it when `path` is set); returns the wall ns.
 double run(const Scene& scene, const Race& race, const std::string& path, const std::optional<replay::SigningKey>& key,
            std::uint64_t* bytes = nullptr) {
@@ -49,19 +39,14 @@ double run(const Scene& scene, const Race& race, const std::string& path, const 
     StepScratch scratch;
     replay::Writer w;
     const auto t0 = Clock::now();
-    if (!path.empty() && !w.open(path, header_of(scene, st), key)) return -1;
+    if (!path.empty() && !w.open(path, replay::header_for(scene, st), key)) return -1;
     for (const auto& in : race.inputs) {
         if (w.is_open()) w.record_tick(st.tick, {}, in);
         step(scene, st, in, scratch);
         if (w.is_open()) w.stepped(st);
     }
     if (!path.empty()) {
-        replay::Trailer t;
-        t.final_tick = st.tick;
-        t.final_state_hash = state_hash(st);
-        t.reason = replay::EndReason::time_limit;
-        t.results = replay::results_of(scene, st);
-        if (!w.finish(t)) return -1;
+        if (!w.finish(replay::trailer_for(scene, st, replay::EndReason::time_limit))) return -1;
     }
     const double ns = ns_since(t0);
     if (bytes) *bytes = w.bytes_written();

@@ -252,6 +252,25 @@ Checkpoint checkpoint_of(const WorldState& s) {
     return c;
 }
 
+Header header_for(const Scene& scene, const WorldState& initial) {
+    Header h;
+    h.track_name = scene.track.name;
+    h.track_identity = scene.track.identity();
+    h.physics_hash = physics_fingerprint(scene.physics);
+    h.tick_rate_hz = static_cast<std::uint16_t>(scene.physics.tick_rate_hz);
+    h.initial = initial;
+    return h;
+}
+
+Trailer trailer_for(const Scene& scene, const WorldState& final_state, EndReason reason) {
+    Trailer t;
+    t.final_tick = final_state.tick;
+    t.final_state_hash = state_hash(final_state);
+    t.reason = reason;
+    t.results = results_of(scene, final_state);
+    return t;
+}
+
 std::vector<ResultEntry> results_of(const Scene& scene, const WorldState& s) {
     std::vector<ResultEntry> out;
     for (const Standing& st : standings(scene.track, s.cars, s.start_tick, scene.physics.tick_rate_hz)) {

@@ -138,6 +138,11 @@ bool decode(std::span<const std::uint8_t> in, Signature& s, std::string& error);
 void frame(RecordKind kind, std::span<const std::uint8_t> payload, std::vector<std::uint8_t>& out);
 
 Checkpoint checkpoint_of(const WorldState& s);
+/// A header for a race on `scene` starting from `initial` (default
+/// checkpoint and keyframe spacing, no names, no race number).
+Header header_for(const Scene& scene, const WorldState& initial);
+/// The trailer of a race that ended in `final_state` (no removals, no time).
+Trailer trailer_for(const Scene& scene, const WorldState& final_state, EndReason reason);
 std::vector<ResultEntry> results_of(const Scene& scene, const WorldState& s);
 
 }  // namespace jetrace::replay
