@@ -13,8 +13,9 @@ PACKAGES=(
   libtinyobjloader-dev libbullet-dev libsodium-dev
   # charts, fuzzing runtime
   gnuplot-nox libclang-rt-14-dev
-  # cross-platform determinism (tools/cross.sh): aarch64 under qemu, WebAssembly under node
-  g++-aarch64-linux-gnu qemu-user emscripten nodejs
+  # cross-platform determinism (tools/cross.sh): aarch64 under qemu, WebAssembly under node;
+  # the aarch64 replay verifier checks signatures with Debian's arm64 libsodium (multiarch)
+  g++-aarch64-linux-gnu qemu-user emscripten nodejs libsodium-dev:arm64
   # scripts
   python3 procps
 )
@@ -38,5 +39,12 @@ if [ "$(id -u)" -ne 0 ]; then
 fi
 echo "setup: installing ${missing[*]}"
 export DEBIAN_FRONTEND=noninteractive
+# Packages of another architecture (name:arch) need it added to dpkg first.
+for p in "${missing[@]}"; do
+  arch="${p#*:}"
+  if [ "$arch" != "$p" ] && ! dpkg --print-foreign-architectures | grep -qx "$arch"; then
+    "${SUDO[@]}" dpkg --add-architecture "$arch"
+  fi
+done
 "${SUDO[@]}" apt-get update -qq
 "${SUDO[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"

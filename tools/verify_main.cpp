@@ -3,7 +3,7 @@
 // compiled third-party library, so it builds for x86-64, aarch64 and
 // WebAssembly alike (tools/cross.sh runs it on all three).
 //   jetrace-verify --golden               the race of the golden determinism test
-//   jetrace-verify FILE [--expect HASH]   a replay on a built-in track: every
+//   jetrace-verify FILE [--expect HASH] [--signer KEY]   a replay on a built-in track: every
 //       record, checkpoint, the trailer and (where this build has libsodium)
 //       the signature, as jetrace-sim --verify does; exit 0 only if all hold
 #include "jetrace/builtin_tracks.hpp"
@@ -93,10 +93,30 @@ int run_golden() {
     return 0;
 }
 
+// 64 hex digits into a public key; false if not that.
+bool parse_key(const std::string& hex, jetrace::replay::VerifyKey& key) {
+    if (hex.size() != 2 * key.size()) return false;
+    for (std::size_t i = 0; i < key.size(); ++i) {
+        char* end = nullptr;
+        const std::string byte = hex.substr(2 * i, 2);
+        key[i] = static_cast<std::uint8_t>(std::strtoul(byte.c_str(), &end, 16));
+        if (*end != '\0' || byte.find_first_not_of("0123456789abcdefABCDEF") != std::string::npos) return false;
+    }
+    return true;
+}
+
 // FILE: verifies a replay (the verdict JSON of jetrace-sim --verify, with the platform).
-int run_verify(const std::string& path, const std::string& expect) {
+int run_verify(const std::string& path, const std::string& expect, const std::string& signer) {
     namespace replay = jetrace::replay;
     replay::VerifyOptions options;
+    if (!signer.empty()) {
+        replay::VerifyKey key{};
+        if (!parse_key(signer, key)) {
+            std::fprintf(stderr, "jetrace-verify: --signer: '%s' is not 64 hex digits\n", signer.c_str());
+            return 2;
+        }
+        options.trusted_key = key;
+    }
     if (!expect.empty()) {
         char* end = nullptr;
         options.expect_hash = std::strtoull(expect.c_str(), &end, 16);
@@ -128,15 +148,18 @@ int run_verify(const std::string& path, const std::string& expect) {
 int main(int argc, char** argv) {
     CLI::App app{"jetrace-verify: checks that this platform's core reproduces the pinned results (one JSON line each)"};
     bool golden = false;
-    std::string replay_path, expect;
+    std::string replay_path, expect, signer;
     app.add_flag("--golden", golden, "run the golden determinism race and print its state hash and timing");
     app.add_option("replay", replay_path, "a replay file to verify (built-in tracks only)")->excludes("--golden");
     app.add_option("--expect", expect, "with a replay: its final state hash must be this (16 hex digits)")
         ->needs("replay");
+    app.add_option("--signer", signer,
+                   "with a replay: it must be signed by this Ed25519 public key (64 hex digits, the verdict's \"signer\")")
+        ->needs("replay");
     CLI11_PARSE(app, argc, argv);
 
     if (golden) return run_golden();
-    if (!replay_path.empty()) return run_verify(replay_path, expect);
+    if (!replay_path.empty()) return run_verify(replay_path, expect, signer);
     std::fprintf(stderr, "jetrace-verify: nothing to verify\n%s", app.help().c_str());
     return 2;
 }
