@@ -14,7 +14,11 @@ std::string validate(const ServerConfig& c, int tick_rate_hz) {
     if (c.max_players < 1 || c.max_players > proto::kMaxSlots) err << "max players must be in [1, 64]; ";
     if (c.min_players < 1 || c.min_players > c.max_players) err << "min players must be in [1, max players]; ";
     if (c.snapshot_rate_hz < 1 || c.snapshot_rate_hz > tick_rate_hz || tick_rate_hz % c.snapshot_rate_hz != 0)
-        err << "snapshot rate must divide the tick rate (" << tick_rate_hz << " Hz); ";
+        err << "snapshot rate must divide the tick rate (" << tick_rate_hz << " Hz; the default snapshot rate is "
+            << default_snapshot_rate(tick_rate_hz) << " Hz at this tick rate); ";
+    if (!(c.lobby_timeout_s >= 0 && c.lobby_timeout_s <= 86400)) err << "lobby timeout must be in [0, 86400] s; ";
+    if (!(c.lobby_log_interval_s > 0 && c.lobby_log_interval_s <= 86400))
+        err << "lobby log interval must be in (0, 86400] s; ";
     if (c.races < 0) err << "races must be >= 0; ";
     if (!(c.countdown_s >= 0 && c.countdown_s <= 600)) err << "countdown must be in [0, 600] s; ";
     if (!(c.results_pause_s >= 0 && c.results_pause_s <= 600)) err << "results pause must be in [0, 600] s; ";
@@ -30,6 +34,13 @@ std::string validate(const ServerConfig& c, int tick_rate_hz) {
     return err.str();
 }
 
+int default_snapshot_rate(int tick_rate_hz) {
+    for (int r = std::min(60, tick_rate_hz); r > 1; --r) {
+        if (tick_rate_hz % r == 0) return r;
+    }
+    return 1;
+}
+
 RaceServer::RaceServer(const ServerConfig& config, const Scene& scene, net::Transport& transport)
     : config_(config),
       scene_(scene),
@@ -41,6 +52,8 @@ RaceServer::RaceServer(const ServerConfig& config, const Scene& scene, net::Tran
     if (config_.connect_key) {
         verifier_ = std::make_unique<auth::TokenVerifier>(
             auth::VerifierConfig{*config_.connect_key, config_.race_id, config_.max_connect_nonces});
+        std::string error;
+        if (!verifier_->restore(config_.spent_nonces, error)) spdlog::error("spent connect-token nonces: {}", error);
     }
 }
 
@@ -159,6 +172,10 @@ void RaceServer::on_hello(Client& c, const proto::Hello& h) {
         on_reconnect(c, h);
         return;
     }
+    if (draining_) {
+        refuse(c, h.name, "server draining: it finishes the race under way and accepts no new players");
+        return;
+    }
     std::optional<auth::ConnectToken> ticket;
     if (verifier_) {
         if (unix_time_s_ < 0) {
@@ -178,7 +195,10 @@ void RaceServer::on_hello(Client& c, const proto::Hello& h) {
         refuse(c, h.name, "server full (" + std::to_string(config_.max_players) + " players)");
         return;
     }
-    if (ticket) verifier_->admit(*ticket);  // spent only once it got the player in
+    if (ticket) {
+        verifier_->admit(*ticket);  // spent only once it got the player in
+        if (on_nonce_spent) on_nonce_spent(*verifier_);
+    }
     c.greeted = true;
     c.hello_name = h.name;
     c.name = h.name.empty() ? "player" + std::to_string(slot) : h.name;
@@ -301,6 +321,7 @@ int RaceServer::update(std::uint64_t now_us) {
         drop(p, std::string(proto::kNoHelloReason) + " " + std::to_string(config_.hello_timeout_s) + " s");
     }
     expire_held();
+    check_drain();
 
     int stepped = 0;
     // Never try to catch up more than a quarter second: skip instead.

@@ -17,6 +17,7 @@ const char* end_reason_name(EndReason r) {
         case EndReason::time_limit: return "time limit";
         case EndReason::abandoned: return "abandoned";
         case EndReason::aborted: return "aborted";
+        case EndReason::drained: return "drained";
     }
     return "unknown";
 }
