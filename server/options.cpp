@@ -2,6 +2,7 @@
 #include "options.hpp"
 
 #include "jetrace/auth/key_file.hpp"
+#include "jetrace/cli/finite.hpp"
 #include "jetrace/cli/logging.hpp"
 #include "jetrace/server/host_files.hpp"
 #include "jetrace/server/path_template.hpp"
@@ -10,7 +11,6 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <set>
 
@@ -18,17 +18,7 @@ namespace jetrace::server {
 
 namespace {
 
-/// CLI11's Range lets NaN through (every comparison with it is false).
-const CLI::Validator kFinite(
-    [](std::string& s) -> std::string {
-        try {
-            if (std::isfinite(std::stod(s))) return "";
-        } catch (const std::exception&) {
-            return "";  // not a number: the option's own conversion says so
-        }
-        return "Value " + s + " is not a finite number";
-    },
-    "FINITE");
+const CLI::Validator kFinite = jetrace::cli::finite();
 
 void add_race_options(CLI::App& app, HostOptions& o) {
     ServerConfig& cfg = o.cfg;

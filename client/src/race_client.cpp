@@ -119,20 +119,52 @@ void RaceClient::on_event(const net::Event& e) {
     }
 }
 
+const Scene* RaceClient::scene_for(const proto::Welcome& w, std::string& why) {
+    const auto known = std::find(identities_.begin(), identities_.end(), w.track_identity);
+    if (known == identities_.end()) {
+        why = "track mismatch: the server races on '" + w.track_name + "', which differs from ours";
+        return nullptr;
+    }
+    const Scene* base = scenes_[static_cast<std::size_t>(known - identities_.begin())];
+    if (w.tick_rate_hz == base->physics.tick_rate_hz) {
+        if (w.physics_hash == proto::physics_hash(base->physics)) return base;
+        why = "physics settings differ from the server's (not the same physics core)";
+        return nullptr;
+    }
+    // Another tick rate: the same core steps at any valid rate, so adopt it
+    // if everything else is the same (the hash covers every setting).
+    PhysicsSettings p = base->physics;
+    p.tick_rate_hz = w.tick_rate_hz;
+    if (const std::string invalid = validate(p); !invalid.empty()) {
+        why = "the server's tick rate " + std::to_string(w.tick_rate_hz) + " Hz is not usable here: " + invalid;
+        return nullptr;
+    }
+    if (w.physics_hash != proto::physics_hash(p)) {
+        why = "physics settings differ from the server's beyond its tick rate (" + std::to_string(w.tick_rate_hz) +
+              " Hz)";
+        return nullptr;
+    }
+    if (!adopted_scene_ || adopted_scene_->track.identity() != w.track_identity ||
+        adopted_scene_->physics.tick_rate_hz != p.tick_rate_hz) {
+        auto scene = std::make_unique<Scene>(Scene::make(base->track, p));
+        scene->broadphase = base->broadphase;
+        if (scene_ == adopted_scene_.get()) scene_ = nullptr;  // replaced below
+        adopted_scene_ = std::move(scene);
+        spdlog::info("{}: adopting the server's tick rate of {} Hz", config_.name, p.tick_rate_hz);
+    }
+    return adopted_scene_.get();
+}
+
 void RaceClient::on_message(const proto::Message& m) {
     if (const auto* w = std::get_if<proto::Welcome>(&m)) {
         if (state_ != ClientState::waiting_welcome && state_ != ClientState::reconnecting) {
             spdlog::warn("{}: ignoring an unexpected second welcome", config_.name);
             return;
         }
-        const auto known = std::find(identities_.begin(), identities_.end(), w->track_identity);
-        const Scene* chosen =
-            known == identities_.end() ? nullptr : scenes_[static_cast<std::size_t>(known - identities_.begin())];
+        std::string why;
+        const Scene* chosen = scene_for(*w, why);
         if (chosen == nullptr) {
-            leave("track mismatch: the server races on '" + w->track_name + "', which differs from ours");
-        } else if (w->physics_hash != proto::physics_hash(chosen->physics) ||
-                   w->tick_rate_hz != chosen->physics.tick_rate_hz) {
-            leave("physics settings differ from the server's");
+            leave(why);
         } else {
             if (chosen != scene_) scratch_ = StepScratch{};  // it holds the other track's triangles
             scene_ = chosen;
