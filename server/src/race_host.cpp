@@ -67,7 +67,7 @@ void RaceServer::drain(const std::string& reason, double timeout_s) {
     draining_ = true;
     drain_reason_ = reason;
     drain_until_us_ = now_us_ + static_cast<std::uint64_t>(timeout_s * 1e6);
-    spdlog::info("{}: draining: race {} may finish within {:g} s; new players are refused", reason, race_number_,
+    spdlog::info("{}: draining: race {} may finish within {:g} s of the server clock; new players are refused", reason, race_number_,
                  timeout_s);
 }
 
