@@ -126,31 +126,26 @@ const Scene* RaceClient::scene_for(const proto::Welcome& w, std::string& why) {
         return nullptr;
     }
     const Scene* base = scenes_[static_cast<std::size_t>(known - identities_.begin())];
-    if (w.tick_rate_hz == base->physics.tick_rate_hz) {
-        if (w.physics_hash == proto::physics_hash(base->physics)) return base;
+    if (w.physics_hash == proto::physics_hash(base->physics)) return base;
+    // Other settings (a tick rate of the server's choosing): the same core
+    // steps with any valid settings, so adopt the server's if they are
+    // what its hash covers (the hash includes the core's revision).
+    if (!w.physics || proto::physics_hash(*w.physics) != w.physics_hash) {
         why = "physics settings differ from the server's (not the same physics core)";
         return nullptr;
     }
-    // Another tick rate: the same core steps at any valid rate, so adopt it
-    // if everything else is the same (the hash covers every setting).
-    PhysicsSettings p = base->physics;
-    p.tick_rate_hz = w.tick_rate_hz;
+    const PhysicsSettings& p = *w.physics;
     if (const std::string invalid = validate(p); !invalid.empty()) {
-        why = "the server's tick rate " + std::to_string(w.tick_rate_hz) + " Hz is not usable here: " + invalid;
-        return nullptr;
-    }
-    if (w.physics_hash != proto::physics_hash(p)) {
-        why = "physics settings differ from the server's beyond its tick rate (" + std::to_string(w.tick_rate_hz) +
-              " Hz)";
+        why = "the server's physics settings are not usable here: " + invalid;
         return nullptr;
     }
     if (!adopted_scene_ || adopted_scene_->track.identity() != w.track_identity ||
-        adopted_scene_->physics.tick_rate_hz != p.tick_rate_hz) {
+        proto::physics_hash(adopted_scene_->physics) != w.physics_hash) {
         auto scene = std::make_unique<Scene>(Scene::make(base->track, p));
         scene->broadphase = base->broadphase;
         if (scene_ == adopted_scene_.get()) scene_ = nullptr;  // replaced below
         adopted_scene_ = std::move(scene);
-        spdlog::info("{}: adopting the server's tick rate of {} Hz", config_.name, p.tick_rate_hz);
+        spdlog::info("{}: adopting the server's physics settings (tick rate {} Hz)", config_.name, p.tick_rate_hz);
     }
     return adopted_scene_.get();
 }

@@ -222,6 +222,7 @@ void RaceServer::send_welcome(Client& c) {
     w.track_name = scene_.track.name;
     w.track_identity = scene_.track.identity();
     w.physics_hash = proto::physics_hash(scene_.physics);
+    w.physics = scene_.physics;
     w.server_tick = world_.tick;
     w.reconnect_token.assign(c.reconnect_token.begin(), c.reconnect_token.end());
     send(c.peer, net::Channel::reliable, w);
