@@ -3,7 +3,8 @@
 # results say "finished"), refuses a newcomer meanwhile with the reason, and
 # exits 0 with "server terminated" (not "hosted its last race"). SIGHUP in the
 # countdown drains too; a second SIGHUP stops at once, and a race stopped
-# before its start is no result. SIGHUP in an empty lobby exits at once.
+# before its start is no result. Two SIGINTs mid-race abort the race at
+# once (results say "aborted"). SIGHUP in an empty lobby exits at once.
 # Usage: host_drain.sh SERVER BOT
 set -euo pipefail
 . "$(dirname "$0")/../tools/server_port.sh"
@@ -76,7 +77,32 @@ cat "$out/hup.log" "$out/hup.json.bots"
 grep -q 'race 1 stopped in its countdown: no result' "$out/hup.log" || { echo "no countdown stop line"; exit 1; }
 [ ! -e "$out/hup.json" ] || { echo "a race stopped in its countdown was reported"; cat "$out/hup.json"; exit 1; }
 
-# 3. SIGHUP in an empty lobby: at once.
+# 3. SIGINT twice mid-race with --races 3: aborted at once, and said so.
+"$server" "${common[@]}" --races 3 --countdown 1 --results "$out/int.json" >"$out/int.log" 2>&1 &
+pid=$!
+port="$(server_port "$out/int.log")"
+timeout 60 "$bot" --connect "127.0.0.1:$port" --track ring --count 2 --time-scale 4 --max-seconds 50 \
+  >"$out/int.bots" 2>&1 &
+bots=$!
+wait_for 'race 1: go' "$out/int.log"
+sleep 0.5
+kill -INT "$pid"
+wait_for 'draining' "$out/int.log"
+kill -INT "$pid"
+server_rc=0
+wait "$pid" || server_rc=$?
+pid=""
+wait "$bots" || true
+bots=""
+cat "$out/int.log" "$out/int.bots"
+[ "$server_rc" = 0 ] || { echo "the server exited $server_rc"; exit 1; }
+grep -q 'server shutting down: server interrupted (again: stopping at once)' "$out/int.log" ||
+  { echo "no immediate stop line"; exit 1; }
+grep -q 'hosted its last race' "$out/int.log" && { echo "SIGINT reported as the last race"; exit 1; }
+python3 -c "import json,sys; d=json.load(open(sys.argv[1])); assert d['end_reason']=='aborted' and d['aborted'], d" \
+  "$out/int.json"
+
+# 4. SIGHUP in an empty lobby: at once.
 "$server" "${common[@]}" >"$out/idle.log" 2>&1 &
 pid=$!
 server_port "$out/idle.log" >/dev/null

@@ -235,7 +235,9 @@ void RaceServer::end_race(replay::EndReason reason) {
     ++races_completed_;
     results_until_us_ = now_us_ + static_cast<std::uint64_t>(config_.results_pause_s * 1e6);
     broadcast_status();
-    if (draining_) {
+    if (shutting_down_) {
+        // shutdown() ended this race: it goes on with its own reason.
+    } else if (draining_) {
         shutdown(drain_reason_);
     } else if (config_.races > 0 && races_completed_ >= static_cast<std::uint32_t>(config_.races)) {
         shutdown("the server hosted its last race");

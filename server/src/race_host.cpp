@@ -93,9 +93,9 @@ std::vector<Racer> RaceServer::racers() const {
 }
 
 void RaceServer::shutdown(const std::string& reason) {
-    if (done_) return;
+    if (done_ || shutting_down_) return;
+    shutting_down_ = true;
     if (phase_ == proto::RacePhase::racing) end_race(replay::EndReason::aborted);
-    if (done_) return;
     if (phase_ == proto::RacePhase::countdown) {
         // Stopped before its start: not a result (the replay says why).
         spdlog::info("race {} stopped in its countdown: no result", race_number_);

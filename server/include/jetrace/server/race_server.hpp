@@ -267,6 +267,8 @@ private:
     std::uint64_t lobby_since_us_ = 0;
     std::uint64_t next_lobby_log_us_ = 0;
     bool draining_ = false;
+    /// shutdown() is under way (the race it ends must not shut down again).
+    bool shutting_down_ = false;
     std::string drain_reason_;
     std::uint64_t drain_until_us_ = 0;
     std::int64_t race_start_unix_s_ = 0;
