@@ -3,8 +3,11 @@
 // tokens (--token, --token-file) it joins a private race. The server's
 // Welcome names its track; each bot races on the built-in track (or the
 // --track file) with the same identity.
+#include "bot_report.hpp"
+
 #include "jetrace/auth/connect_token.hpp"
 #include "jetrace/builtin_tracks.hpp"
+#include "jetrace/cli/finite.hpp"
 #include "jetrace/cli/logging.hpp"
 #include "jetrace/client/race_client.hpp"
 #include "jetrace/driver_ai.hpp"
@@ -16,13 +19,18 @@
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
+#include <atomic>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <fstream>
 #include <memory>
 #include <thread>
 
 namespace {
+
+std::atomic<int> g_signal{0};
+void on_signal(int sig) { g_signal = sig; }
 
 /// Reads connect tokens (text form) from --token values and a --token-file
 /// (one a line; blank lines and lines starting with # skipped). False with
@@ -59,6 +67,7 @@ bool read_tokens(const std::vector<std::string>& given, const std::string& file,
 
 int main(int argc, char** argv) {
     CLI::App app{"jetrace-bot: AI drivers that connect to a jetrace server"};
+    app.footer(jetrace::bot::kExitCodesHelp);
     std::string connect;
     int count = 1;
     std::string prefix = "bot";
@@ -80,21 +89,26 @@ int main(int argc, char** argv) {
     app.add_option("--seed", seed, "seed for the drivers' skills");
     jetrace::cli::add_log_level_option(app, log_level);
     app.add_option("--time-scale", time_scale, "run the clock this many times faster than real time (tests)")
-        ->check(CLI::Range(0.01, 100.0));
+        ->check(jetrace::cli::finite())->check(CLI::Range(0.01, 100.0));
     app.add_option("--max-seconds", max_seconds, "give up after this many wall-clock seconds")
-        ->check(CLI::Range(1.0, 1e7));
+        ->check(jetrace::cli::finite())->check(CLI::Range(1.0, 1e7));
     app.add_option("--join-window", join_window_s,
                    "if the server cannot be reached, keep trying to join this long (s; 0: never)")
-        ->check(CLI::Range(0.0, 3600.0));
+        ->check(jetrace::cli::finite())->check(CLI::Range(0.0, 3600.0));
     app.add_option("--reconnect-grace", reconnect_grace_s,
                    "after a drop, try to get the car back this long (s; the server's --reconnect-grace; 0: never)")
-        ->check(CLI::Range(0.0, 3600.0));
+        ->check(jetrace::cli::finite())->check(CLI::Range(0.0, 3600.0));
     app.add_option("--token", token_texts,
                    "connect token of a private race (jetrace-token issue); one per bot, which takes its name")
         ->expected(1, 64);
     app.add_option("--token-file", token_file, "file of connect tokens, one a line (with --token: after those)");
     CLI11_PARSE(app, argc, argv);
     jetrace::cli::log_to_stderr("bot", log_level);  // stdout carries only the bots' JSON lines
+    if (!jetrace::proto::valid_text(prefix) || prefix.size() + 2 > jetrace::proto::kMaxNameBytes) {
+        std::fprintf(stderr, "jetrace-bot: --name must be valid UTF-8 text of at most %zu bytes\n",
+                     jetrace::proto::kMaxNameBytes - 2);
+        return 2;
+    }
 
     std::string host;
     std::uint16_t port = 0;
@@ -184,12 +198,14 @@ int main(int argc, char** argv) {
         });
         if (b.client->state() == jetrace::client::ClientState::closed) {
             std::fprintf(stderr, "jetrace-bot: cannot open a connection to %s\n", connect.c_str());
-            return 1;
+            return jetrace::bot::kLostConnection;
         }
         bots.push_back(std::move(b));
     }
+    std::signal(SIGTERM, on_signal);
+    std::signal(SIGINT, on_signal);
     std::size_t done = 0;
-    bool track_mismatch = false;
+    bool stopped = false;
     while (done < bots.size()) {
         const std::uint64_t t = now_us();
         for (Bot& b : bots) {
@@ -205,46 +221,34 @@ int main(int argc, char** argv) {
                 ++done;
             }
         }
-        if (std::chrono::duration<double>(Clock::now() - start).count() > max_seconds) break;
+        const bool out_of_time = std::chrono::duration<double>(Clock::now() - start).count() > max_seconds;
+        if (done < bots.size() && (out_of_time || g_signal != 0)) {
+            // Say goodbye, so that the server frees the slots at once.
+            const std::string why = g_signal != 0 ? "bot stopped by a signal" : "bot gave up (--max-seconds)";
+            for (Bot& b : bots) {
+                if (!b.done) b.client->leave(why);
+            }
+            stopped = true;
+            break;
+        }
         std::this_thread::sleep_for(std::chrono::microseconds(500));
     }
     for (const Bot& b : bots) {
-        if (b.client->close_reason().starts_with("track mismatch")) {
-            std::fprintf(stderr, "jetrace-bot: %s%s\n", b.client->close_reason().c_str(),
+        const std::string& why = b.client->close_reason();
+        if (why.starts_with("refused: ")) std::fprintf(stderr, "jetrace-bot: %s: %s\n", b.name.c_str(), why.c_str());
+        if (why.starts_with("track mismatch")) {
+            std::fprintf(stderr, "jetrace-bot: %s%s\n", why.c_str(),
                          track_spec.empty() ? " (not a built-in track: pass --track FILE.obj)" : "");
-            track_mismatch = true;
-            break;
         }
     }
     // Rates per simulated second (wall time scaled by --time-scale).
     const double wall_s = std::chrono::duration<double>(Clock::now() - start).count() * time_scale;
-    int failures = 0;
+    auto rc = jetrace::bot::kFinished;
     for (Bot& b : bots) {
-        const auto& r = b.client->results();
-        int position = 0;
-        bool finished = false;
-        for (std::size_t i = 0; i < r.standings.size(); ++i) {
-            if (r.standings[i].slot == b.client->slot() && r.standings[i].name == b.name) {
-                position = static_cast<int>(i) + 1;
-                finished = r.standings[i].finished;
-            }
-        }
-        failures += finished ? 0 : 1;
-        const auto totals = b.client->totals();
-        nlohmann::json j;
-        j["name"] = b.name;
-        j["finished"] = finished;
-        j["position"] = position;
-        j["corrections"] = b.client->stats().corrections;
-        j["max_correction_m"] = b.client->stats().max_correction_m;
-        j["snapshots"] = b.client->stats().snapshots;
-        j["rtt_ms"] = b.client->rtt_ms();
-        j["reconnects"] = b.client->stats().reconnects;
-        j["down_bytes_per_s"] = static_cast<double>(totals.bytes_received) / wall_s;
-        j["up_bytes_per_s"] = static_cast<double>(totals.bytes_sent) / wall_s;
-        j["closed"] = b.client->close_reason();
-        std::printf("%s\n", j.dump().c_str());
+        jetrace::bot::ExitCode code{};
+        jetrace::bot::print_bot_line(*b.client, b.name, stopped && !b.done, wall_s, code);
+        rc = jetrace::bot::combine(rc, code);
     }
-    if (track_mismatch) return 2;
-    return failures == 0 ? 0 : 3;
+    std::fflush(stdout);
+    return rc;
 }

@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # The server process terminated mid-race: jetrace-server and 3 jetrace-bot
 # drivers on 127.0.0.1 (ring, 3 laps, 4x real time); SIGTERM to the server
-# about 2 s after the start. The server must exit cleanly (0, its figures
-# printed), the results so far must be complete JSON (written atomically: no
-# temporary file left, every car listed), the bots must get those results, and the
-# replay so far must re-simulate to the state hash the server printed.
+# about 2 s after the start, with --drain-timeout 0.5: the drain cuts the
+# race short. The server must exit cleanly (0, its figures printed), the
+# results so far must be complete JSON (written atomically: no temporary
+# file left, every car listed, the end reason "drained"), the bots must get
+# those results, and the replay so far must re-simulate to the state hash
+# the server printed.
 # Usage: sigterm_midrace.sh SERVER BOT SIM
 set -euo pipefail
 . "$(dirname "$0")/../tools/server_port.sh"
@@ -12,7 +14,7 @@ server="$1" bot="$2" sim="$3"
 out="$(mktemp -d)"
 trap 'kill "$server_pid" "$bots_pid" 2>/dev/null || true; rm -rf "$out"' EXIT
 "$server" --bind 127.0.0.1 --port 0 --track ring --laps 3 --min-players 3 --max-players 3 --time-scale 4 \
-  --countdown 1 --results "$out/results.json" --record "$out/race.replay" --log-level info >"$out/server.log" 2>&1 &
+  --countdown 1 --drain-timeout 0.5 --results "$out/results.json" --record "$out/race.replay" --log-level info >"$out/server.log" 2>&1 &
 server_pid=$!
 port="$(server_port "$out/server.log")"
 timeout 120 "$bot" --connect "127.0.0.1:$port" --track ring --count 3 --time-scale 4 --max-seconds 100 \
@@ -36,6 +38,7 @@ d = json.load(open(sys.argv[1]))
 assert d["race"] == 1 and len(d["standings"]) == 3, d
 assert not all(s["finished"] for s in d["standings"]), "the race was not cut short"
 assert d["ticks"] > 240, d
+assert d["end_reason"] == "drained" and d["aborted"] is True, d
 print("results so far:", json.dumps(d["standings"]))
 PY
 # Every bot got the results so far (and left, or heard the server go).

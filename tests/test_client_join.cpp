@@ -151,6 +151,39 @@ TEST(ClientJoin, AnUnknownTrackOrOtherPhysicsLeaves) {
     }
 }
 
+TEST(ClientJoin, AdoptsTheServersPhysicsSettingsFromTheSameCore) {
+    PhysicsSettings fast;
+    fast.tick_rate_hz = 240;
+    PhysicsSettings bad = fast;
+    bad.slide_mps2 = bad.grip_mps2 + 1;  // validate() refuses: slide must be below grip
+    struct Case {
+        PhysicsSettings physics;
+        std::uint64_t hash;
+        const char* reason;  // nullptr: adopted
+    };
+    for (const Case& k : {Case{fast, proto::physics_hash(fast), nullptr},
+                          Case{fast, proto::physics_hash(fast) ^ 1, "physics settings differ from the server's (not the same physics core)"},
+                          Case{bad, proto::physics_hash(bad), "the server's physics settings are not usable here"}}) {
+        ScriptedTransport t;
+        client::RaceClient c(client::ClientConfig{}, client::KnownScenes{&tracks().ring}, t);
+        t.connect();
+        proto::Welcome w = welcome_for(tracks().ring, 0);
+        w.tick_rate_hz = static_cast<std::uint16_t>(k.physics.tick_rate_hz);
+        w.physics = k.physics;
+        w.physics_hash = k.hash;
+        t.deliver(w);
+        c.update(1000, no_input);
+        if (k.reason == nullptr) {
+            EXPECT_EQ(c.state(), ClientState::in_lobby) << c.close_reason();
+            EXPECT_EQ(c.scene().physics.tick_rate_hz, 240);
+            EXPECT_EQ(c.scene().track.identity(), tracks().ring.track.identity());
+        } else {
+            EXPECT_EQ(c.state(), ClientState::closed);
+            EXPECT_EQ(c.close_reason().rfind(k.reason, 0), 0u) << c.close_reason();
+        }
+    }
+}
+
 TEST(ClientJoin, AConnectionThatNeverCameUpJoinsAgain) {
     client::ClientConfig cc;
     cc.join_window_s = 5.0;

@@ -57,4 +57,28 @@ void TokenVerifier::admit(const ConnectToken& token) {
     used_.emplace(token.nonce, token.expires_unix_s);
 }
 
+std::vector<SpentNonce> TokenVerifier::spent() const {
+    std::vector<SpentNonce> out;
+    out.reserve(used_.size());
+    for (const auto& [nonce, expiry] : used_) out.push_back({nonce, expiry});
+    return out;
+}
+
+bool TokenVerifier::restore(const std::vector<SpentNonce>& nonces, std::string& error) {
+    std::map<Nonce, std::int64_t> next = used_;
+    for (const SpentNonce& n : nonces) {
+        if (!next.emplace(n.nonce, n.expires_unix_s).second) {
+            error = "a nonce appears twice";
+            return false;
+        }
+    }
+    if (next.size() > config_.max_nonces) {
+        error = std::to_string(next.size()) + " nonces, more than the " + std::to_string(config_.max_nonces) +
+                " the server remembers";
+        return false;
+    }
+    used_ = std::move(next);
+    return true;
+}
+
 }  // namespace jetrace::auth

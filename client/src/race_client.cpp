@@ -125,14 +125,10 @@ void RaceClient::on_message(const proto::Message& m) {
             spdlog::warn("{}: ignoring an unexpected second welcome", config_.name);
             return;
         }
-        const auto known = std::find(identities_.begin(), identities_.end(), w->track_identity);
-        const Scene* chosen =
-            known == identities_.end() ? nullptr : scenes_[static_cast<std::size_t>(known - identities_.begin())];
+        std::string why;
+        const Scene* chosen = scene_for(*w, why);
         if (chosen == nullptr) {
-            leave("track mismatch: the server races on '" + w->track_name + "', which differs from ours");
-        } else if (w->physics_hash != proto::physics_hash(chosen->physics) ||
-                   w->tick_rate_hz != chosen->physics.tick_rate_hz) {
-            leave("physics settings differ from the server's");
+            leave(why);
         } else {
             if (chosen != scene_) scratch_ = StepScratch{};  // it holds the other track's triangles
             scene_ = chosen;

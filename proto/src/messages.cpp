@@ -7,6 +7,7 @@
 
 #include "jetrace_generated.h"
 #include "packed_payloads.hpp"
+#include "physics_wire.hpp"
 
 #include <bit>
 #include <cassert>
@@ -198,9 +199,10 @@ struct Encoder {
         assert_text(m.track_name, kMaxTrackNameBytes);
         const auto track = b.CreateString(m.track_name);
         const auto tok = token(b, m.reconnect_token);
+        const auto physics = m.physics ? encode_physics(b, *m.physics) : 0;
         return finish<Welcome>(b, w::CreateWelcome(b, m.protocol_version, m.slot, m.max_players, m.tick_rate_hz,
                                                    m.snapshot_rate_hz, track, m.track_identity, m.physics_hash,
-                                                   m.server_tick, tok));
+                                                   m.server_tick, tok, physics));
     }
     std::vector<std::uint8_t> operator()(const Refuse& m) const {
         assert_text(m.reason, kMaxReasonBytes);
@@ -274,6 +276,12 @@ bool decode_body(const w::Welcome& t, Message& out, Check& c) {
     m.physics_hash = t.physics_hash();
     m.server_tick = t.server_tick();
     if (!c.token(t.reconnect_token(), "Welcome.reconnect_token", m.reconnect_token)) return false;
+    if (t.physics() != nullptr) {
+        PhysicsSettings p;
+        std::string why;
+        if (!decode_physics(*t.physics(), p, why)) return c.fail("Welcome.physics", why.c_str());
+        m.physics = p;
+    }
     out = std::move(m);
     return true;
 }

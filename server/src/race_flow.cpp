@@ -1,13 +1,11 @@
 // RaceServer: the tick, the race phases, snapshots and results.
 #include "jetrace/race.hpp"
+#include "jetrace/server/path_template.hpp"
 #include "jetrace/server/race_server.hpp"
 
-#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
-#include <cstdio>
 #include <algorithm>
-#include <fstream>
 #include <map>
 
 namespace jetrace::server {
@@ -15,12 +13,7 @@ namespace jetrace::server {
 void RaceServer::tick() {
     ++ticks_;
     switch (phase_) {
-        case proto::RacePhase::lobby: {
-            int waiting = 0;
-            for (const auto& [peer, c] : clients_) waiting += c.greeted ? 1 : 0;
-            if (waiting >= config_.min_players) start_race();
-            break;
-        }
+        case proto::RacePhase::lobby: lobby_tick(); break;
         case proto::RacePhase::countdown:
         case proto::RacePhase::racing: step_race(); break;
         case proto::RacePhase::finished:
@@ -42,6 +35,8 @@ void RaceServer::start_race() {
     pending_removals_.clear();
     first_finish_tick_ = proto::kNoTick;
     for (auto& h : history_) h.first = proto::kNoTick;
+    race_start_unix_s_ = unix_time_s_ > 0 ? unix_time_s_ : 0;
+    racers_at_start_.clear();
     for (auto& [peer, c] : clients_) {
         c.input_ticks.fill(proto::kNoTick);
         c.newest_input_tick = proto::kNoTick;
@@ -51,7 +46,9 @@ void RaceServer::start_race() {
         if (!c.greeted || c.slot < 0) continue;
         c.spectating = false;
         spawn_car(scene_, world_, c.slot, c.slot);
+        racers_at_start_.emplace_back(static_cast<std::uint8_t>(c.slot), c.name);
     }
+    std::sort(racers_at_start_.begin(), racers_at_start_.end());
     phase_ = proto::RacePhase::countdown;
     spdlog::info("race {} on '{}': {} players, {} laps, start in {:.1f} s", race_number_, scene_.track.name, players(),
                  config_.laps, config_.countdown_s);
@@ -62,14 +59,15 @@ void RaceServer::start_race() {
         h.physics_hash = proto::physics_hash(scene_.physics);
         h.tick_rate_hz = static_cast<std::uint16_t>(scene_.physics.tick_rate_hz);
         h.race_number = race_number_;
-        h.start_unix_s = unix_time_s_ > 0 ? unix_time_s_ : 0;
+        h.start_unix_s = race_start_unix_s_;
         h.names.assign(world_.cars.size(), std::string());
         for (const auto& [peer, c] : clients_) {
             if (c.greeted && c.slot >= 0) h.names[static_cast<std::size_t>(c.slot)] = c.name;
         }
         h.initial = world_;
         replay_failure_logged_ = false;
-        if (!replay_.open(config_.record_path, h, config_.replay_sign_key)) check_replay_write();
+        const std::string path = expand_path(config_.record_path, race_number_, race_start_unix_s_);
+        if (!replay_.open(path, h, config_.replay_sign_key)) check_replay_write();
     }
     broadcast_status();
     send_snapshots();
@@ -191,40 +189,6 @@ std::vector<proto::StandingEntry> RaceServer::current_standings() const {
     return out;
 }
 
-void RaceServer::write_results(const RaceEnd& end) const {
-    if (config_.results_path.empty()) return;
-    nlohmann::json j;
-    j["race"] = end.race_number;
-    j["track"] = scene_.track.name;
-    j["laps"] = config_.laps;
-    j["ticks"] = end.ticks;
-    j["state_hash"] = hash_hex(end.state_hash);
-    j["standings"] = nlohmann::json::array();
-    int pos = 1;
-    for (const auto& s : end.standings) {
-        j["standings"].push_back({{"position", pos++},
-                                  {"slot", s.slot},
-                                  {"name", s.name},
-                                  {"finished", s.finished},
-                                  {"lap", s.lap},
-                                  {"time_s", s.finish_time_s}});
-    }
-    // Atomic: write a temporary file beside it, then rename over.
-    const std::string tmp = config_.results_path + ".tmp";
-    {
-        std::ofstream f(tmp, std::ios::trunc);
-        f << j.dump(2) << "\n";
-        f.flush();
-        if (!f) {
-            spdlog::error("cannot write results to '{}'", tmp);
-            return;
-        }
-    }
-    if (std::rename(tmp.c_str(), config_.results_path.c_str()) != 0) {
-        spdlog::error("cannot rename results into '{}'", config_.results_path);
-    }
-}
-
 void RaceServer::check_replay_write() {
     if (replay_.error().empty() || replay_failure_logged_) return;
     replay_failure_logged_ = true;
@@ -232,16 +196,11 @@ void RaceServer::check_replay_write() {
     spdlog::error("race {}: {}", race_number_, replay_.error());
 }
 
-void RaceServer::end_race(replay::EndReason reason) {
-    RaceEnd end;
-    end.race_number = race_number_;
-    end.ticks = world_.tick;
-    end.state_hash = state_hash(world_);
-    end.standings = current_standings();
+void RaceServer::finish_replay(replay::EndReason reason, std::uint64_t hash) {
     if (replay_.is_open()) {
         replay::Trailer t;
         t.final_tick = world_.tick;
-        t.final_state_hash = end.state_hash;
+        t.final_state_hash = hash;
         t.reason = reason;
         t.end_unix_s = unix_time_s_ > 0 ? unix_time_s_ : 0;
         t.removed = pending_removals_;
@@ -249,8 +208,20 @@ void RaceServer::end_race(replay::EndReason reason) {
         replay_.finish(t);
     }
     check_replay_write();
-    write_results(end);
-    spdlog::info("race {} over after {} ticks", race_number_, end.ticks);
+}
+
+void RaceServer::end_race(replay::EndReason reason) {
+    RaceEnd end;
+    end.race_number = race_number_;
+    end.ticks = world_.tick;
+    end.state_hash = state_hash(world_);
+    end.reason = reason;
+    end.start_unix_s = race_start_unix_s_;
+    end.end_unix_s = unix_time_s_ > 0 ? unix_time_s_ : 0;
+    end.standings = current_standings();
+    end.racers = racers();
+    finish_replay(reason, end.state_hash);
+    spdlog::info("race {} over after {} ticks ({})", race_number_, end.ticks, replay::end_reason_name(reason));
     if (on_race_end) on_race_end(end);
     proto::Results r;
     r.race_number = race_number_;
@@ -264,23 +235,13 @@ void RaceServer::end_race(replay::EndReason reason) {
     ++races_completed_;
     results_until_us_ = now_us_ + static_cast<std::uint64_t>(config_.results_pause_s * 1e6);
     broadcast_status();
-    if (config_.races > 0 && races_completed_ >= static_cast<std::uint32_t>(config_.races)) {
+    if (shutting_down_) {
+        // shutdown() ended this race: it goes on with its own reason.
+    } else if (draining_) {
+        shutdown(drain_reason_);
+    } else if (config_.races > 0 && races_completed_ >= static_cast<std::uint32_t>(config_.races)) {
         shutdown("the server hosted its last race");
     }
-}
-
-void RaceServer::shutdown(const std::string& reason) {
-    if (done_) return;
-    if (phase_ == proto::RacePhase::countdown || phase_ == proto::RacePhase::racing) end_race(replay::EndReason::aborted);
-    if (done_) return;
-    done_ = true;
-    replay_.abandon();
-    for (const auto& [peer, c] : clients_) {
-        send(peer, net::Channel::reliable, proto::Goodbye{reason});
-        transport_.disconnect(peer);
-    }
-    transport_.flush();
-    spdlog::info("server shutting down: {}", reason);
 }
 
 }  // namespace jetrace::server

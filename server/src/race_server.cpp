@@ -4,31 +4,8 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
-#include <sstream>
 
 namespace jetrace::server {
-
-std::string validate(const ServerConfig& c, int tick_rate_hz) {
-    std::ostringstream err;
-    if (c.laps < 1 || c.laps > 1000) err << "laps must be in [1, 1000]; ";
-    if (c.max_players < 1 || c.max_players > proto::kMaxSlots) err << "max players must be in [1, 64]; ";
-    if (c.min_players < 1 || c.min_players > c.max_players) err << "min players must be in [1, max players]; ";
-    if (c.snapshot_rate_hz < 1 || c.snapshot_rate_hz > tick_rate_hz || tick_rate_hz % c.snapshot_rate_hz != 0)
-        err << "snapshot rate must divide the tick rate (" << tick_rate_hz << " Hz); ";
-    if (c.races < 0) err << "races must be >= 0; ";
-    if (!(c.countdown_s >= 0 && c.countdown_s <= 600)) err << "countdown must be in [0, 600] s; ";
-    if (!(c.results_pause_s >= 0 && c.results_pause_s <= 600)) err << "results pause must be in [0, 600] s; ";
-    if (!(c.finish_window_s > 0 && c.finish_window_s <= 3600)) err << "finish window must be in (0, 3600] s; ";
-    if (!(c.max_race_s > 0 && c.max_race_s <= 86400)) err << "max race time must be in (0, 86400] s; ";
-    if (c.max_input_lead_ticks < 1 || c.max_input_lead_ticks >= 256)
-        err << "max input lead must be in [1, 255] ticks (the input ring holds 256); ";
-    if (!(c.hello_timeout_s > 0 && c.hello_timeout_s <= 86400)) err << "hello timeout must be in (0, 86400] s; ";
-    if (!(c.reconnect_grace_s >= 0 && c.reconnect_grace_s <= 3600)) err << "reconnect grace must be in [0, 3600] s; ";
-    if (c.race_id.size() > auth::kMaxRaceIdBytes || !proto::valid_text(c.race_id))
-        err << "race id must be at most 64 bytes of UTF-8 text; ";
-    if (c.max_connect_nonces < 1 || c.max_connect_nonces > 10'000'000) err << "max connect nonces must be in [1, 1e7]; ";
-    return err.str();
-}
 
 RaceServer::RaceServer(const ServerConfig& config, const Scene& scene, net::Transport& transport)
     : config_(config),
@@ -41,6 +18,8 @@ RaceServer::RaceServer(const ServerConfig& config, const Scene& scene, net::Tran
     if (config_.connect_key) {
         verifier_ = std::make_unique<auth::TokenVerifier>(
             auth::VerifierConfig{*config_.connect_key, config_.race_id, config_.max_connect_nonces});
+        std::string error;
+        if (!verifier_->restore(config_.spent_nonces, error)) spdlog::error("spent connect-token nonces: {}", error);
     }
 }
 
@@ -159,6 +138,10 @@ void RaceServer::on_hello(Client& c, const proto::Hello& h) {
         on_reconnect(c, h);
         return;
     }
+    if (draining_) {
+        refuse(c, h.name, "server draining: it finishes the race under way and accepts no new players");
+        return;
+    }
     std::optional<auth::ConnectToken> ticket;
     if (verifier_) {
         if (unix_time_s_ < 0) {
@@ -178,7 +161,10 @@ void RaceServer::on_hello(Client& c, const proto::Hello& h) {
         refuse(c, h.name, "server full (" + std::to_string(config_.max_players) + " players)");
         return;
     }
-    if (ticket) verifier_->admit(*ticket);  // spent only once it got the player in
+    if (ticket) {
+        verifier_->admit(*ticket);  // spent only once it got the player in
+        if (on_nonce_spent) on_nonce_spent(*verifier_);
+    }
     c.greeted = true;
     c.hello_name = h.name;
     c.name = h.name.empty() ? "player" + std::to_string(slot) : h.name;
@@ -202,6 +188,7 @@ void RaceServer::send_welcome(Client& c) {
     w.track_name = scene_.track.name;
     w.track_identity = scene_.track.identity();
     w.physics_hash = proto::physics_hash(scene_.physics);
+    w.physics = scene_.physics;
     w.server_tick = world_.tick;
     w.reconnect_token.assign(c.reconnect_token.begin(), c.reconnect_token.end());
     send(c.peer, net::Channel::reliable, w);
@@ -301,6 +288,7 @@ int RaceServer::update(std::uint64_t now_us) {
         drop(p, std::string(proto::kNoHelloReason) + " " + std::to_string(config_.hello_timeout_s) + " s");
     }
     expire_held();
+    check_drain();
 
     int stepped = 0;
     // Never try to catch up more than a quarter second: skip instead.

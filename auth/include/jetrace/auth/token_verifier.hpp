@@ -11,6 +11,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace jetrace::auth {
 
@@ -22,6 +23,13 @@ struct VerifierConfig {
     /// Most unexpired admitted nonces remembered; when full, new tokens are
     /// refused until some expire (unit: tokens).
     std::size_t max_nonces = 4096;
+};
+
+/// An admitted token's nonce and its token's expiry (unit: s since 1970 UTC).
+struct SpentNonce {
+    Nonce nonce{};
+    std::int64_t expires_unix_s = 0;
+    bool operator==(const SpentNonce&) const = default;
 };
 
 struct Verdict {
@@ -44,6 +52,11 @@ public:
     void admit(const ConnectToken& token);
 
     std::size_t nonces_held() const { return used_.size(); }
+    /// Every remembered nonce, in nonce order (to save across restarts).
+    std::vector<SpentNonce> spent() const;
+    /// Remembers `nonces` as admitted (a restart's saved table). False, and
+    /// nothing changed, if a nonce repeats or they exceed max_nonces.
+    bool restore(const std::vector<SpentNonce>& nonces, std::string& error);
     const VerifierConfig& config() const { return config_; }
 
 private:

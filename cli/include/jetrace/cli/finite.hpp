@@ -1,6 +1,5 @@
-// CLI11's Range lets NaN through (every comparison with NaN is false):
-// options that take a real number check `finite()` too, so NaN and
-// infinities get a message and a non-zero exit like any value out of range.
+// A CLI11 check that a number option is finite: CLI::Range lets NaN through
+// (every comparison with it is false) and "inf" parses as a double.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -10,13 +9,15 @@
 
 namespace jetrace::cli {
 
-/// A validator that refuses NaN and +-infinity (and anything not a number).
 inline CLI::Validator finite() {
     return CLI::Validator(
-        [](std::string& text) -> std::string {
-            double v = 0;
-            if (!CLI::detail::lexical_cast(text, v)) return "not a number: " + text;
-            return std::isfinite(v) ? std::string() : "not a finite number: " + text;
+        [](std::string& s) -> std::string {
+            try {
+                if (std::isfinite(std::stod(s))) return "";
+            } catch (const std::exception&) {
+                return "";  // not a number at all: the option's own conversion says so
+            }
+            return "Value " + s + " is not a finite number";
         },
         "FINITE");
 }

@@ -159,6 +159,11 @@ private:
     KnownScenes scenes_;
     std::vector<std::uint64_t> identities_;  // Track::identity() of each
     const Scene* scene_ = nullptr;
+    /// A known scene rebuilt at the server's tick rate (Welcome), if it
+    /// differs from the known scene's.
+    std::unique_ptr<Scene> adopted_scene_;
+    /// The scene to race `w` on, or nullptr with `why` (the client leaves).
+    const Scene* scene_for(const proto::Welcome& w, std::string& why);
     Connector connector_;
     std::unique_ptr<net::Transport> owned_;  // with a Connector
     net::Transport* transport_ = nullptr;

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <span>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <variant>
@@ -16,7 +17,7 @@
 
 namespace jetrace::proto {
 
-inline constexpr std::uint16_t kProtocolVersion = 2;
+inline constexpr std::uint16_t kProtocolVersion = 3;
 /// Larger datagrams are rejected before parsing (unit: bytes).
 inline constexpr std::size_t kMaxMessageBytes = 8192;
 /// Most inputs one InputBatch may carry.
@@ -65,6 +66,9 @@ struct Welcome {
     std::uint64_t physics_hash = 0;
     std::uint32_t server_tick = 0;
     std::vector<std::uint8_t> reconnect_token;  // kTokenBytes
+    /// The server's physics settings (physics_hash(physics) == physics_hash
+    /// from a server built with the same core; absent from older servers).
+    std::optional<PhysicsSettings> physics;
 };
 
 /// Server -> client, reliable: not accepted (then disconnected).

@@ -34,7 +34,8 @@ struct ServerConfig {
     int max_players = 8;
     /// Players needed before the countdown starts (unit: players).
     int min_players = 1;
-    /// Snapshots sent per second; must divide the tick rate (unit: Hz).
+    /// Snapshots sent per second; must divide the tick rate (unit: Hz;
+    /// jetrace-server's default is default_snapshot_rate()).
     int snapshot_rate_hz = 60;
     /// Races to host before done() turns true; 0 hosts forever (unit: races).
     int races = 0;
@@ -52,10 +53,16 @@ struct ServerConfig {
     /// the caller's clock; jetrace-server scales its --hello-timeout, given
     /// in real time, by --time-scale).
     double hello_timeout_s = 5.0;
-    /// Results JSON written atomically at each race's end ("" = none).
-    std::string results_path;
-    /// Replay of each race (overwritten by the next race) ("" = none).
+    /// Replay of each race ("" = none); %n and %t expand as in
+    /// expand_path() (server/include/jetrace/server/path_template.hpp).
     std::string record_path;
+    /// With at least one but fewer than min_players players for this long,
+    /// the lobby starts the race anyway, or with lobby_timeout_cancels tells
+    /// the players why and lets them go (unit: s; 0 = wait forever).
+    double lobby_timeout_s = 0;
+    bool lobby_timeout_cancels = false;
+    /// How often a waiting lobby logs "waiting N/M" (unit: s).
+    double lobby_log_interval_s = 10.0;
     /// Signs each replay with this Ed25519 secret key (unset = unsigned).
     std::optional<replay::SigningKey> replay_sign_key;
     /// A player whose connection drops without a Goodbye keeps its slot, and
@@ -70,16 +77,41 @@ struct ServerConfig {
     /// Unexpired connect-token nonces remembered against replays; when full,
     /// new tokens are refused (unit: tokens).
     std::size_t max_connect_nonces = 4096;
+    /// Nonces already spent (a restart's --nonce-file): refused like ones
+    /// admitted here.
+    std::vector<auth::SpentNonce> spent_nonces;
 };
+
+/// The snapshot rate used unless one is given: the largest divisor of the
+/// tick rate that is at most 60 (unit: Hz).
+int default_snapshot_rate(int tick_rate_hz);
 
 /// Empty if usable, else what is wrong.
 std::string validate(const ServerConfig& c, int tick_rate_hz);
+
+/// A player who had a car at the race's start.
+struct Racer {
+    std::uint8_t slot = 0;
+    std::string name;
+    /// Not connected at the end (dropped without coming back).
+    bool dropped = false;
+};
 
 struct RaceEnd {
     std::uint32_t race_number = 0;
     std::uint32_t ticks = 0;
     std::uint64_t state_hash = 0;
+    /// Why the race ended (drained: the drain timeout cut it short;
+    /// aborted: the server stopped it at once).
+    replay::EndReason reason = replay::EndReason::finished;
+    /// Wall clock at the countdown's start and at the end (unit: s since
+    /// 1970 UTC; 0 = the caller never set it).
+    std::int64_t start_unix_s = 0;
+    std::int64_t end_unix_s = 0;
+    /// The cars still in the race, in order (what clients get in Results).
     std::vector<proto::StandingEntry> standings;
+    /// Everyone who had a car at the start, in slot order, dropped ones too.
+    std::vector<Racer> racers;
 };
 
 class RaceServer {
@@ -93,9 +125,15 @@ public:
     /// since 1970 UTC). A private race refuses every token until it is set.
     int update(std::uint64_t now_us, std::int64_t unix_time_s);
 
-    /// Ends the race in progress (results so far are written), tells every
-    /// client why, and makes done() true.
+    /// Ends the race in progress at once (reported as aborted; a race still
+    /// in its countdown is not reported), tells every client why, and makes
+    /// done() true.
     void shutdown(const std::string& reason);
+    /// Lets the race under way finish within `timeout_s` (then it ends as
+    /// drained), refusing new players meanwhile, then shuts down. With no
+    /// race under way it shuts down at once; a second call does too.
+    void drain(const std::string& reason, double timeout_s);
+    bool draining() const { return draining_; }
 
     bool done() const { return done_; }
     proto::RacePhase phase() const { return phase_; }
@@ -109,8 +147,12 @@ public:
     /// Slots held for players who dropped, waiting for their reconnect.
     int held_slots() const { return static_cast<int>(held_.size()); }
 
-    /// Called at the end of every race (after the results file is written).
+    /// Called at the end of every race that started (the caller writes the
+    /// results file: the library does no file I/O for results).
     std::function<void(const RaceEnd&)> on_race_end;
+    /// Called after a connect token was admitted, with the verifier whose
+    /// spent nonces changed (jetrace-server's --nonce-file saves them).
+    std::function<void(const auth::TokenVerifier&)> on_nonce_spent;
 
 private:
     static constexpr std::size_t kInputRing = 256;
@@ -173,8 +215,12 @@ private:
     void end_race(replay::EndReason reason);
     void check_replay_write();
     void send_snapshots();
+    void lobby_tick();
+    void cancel_lobby(const std::string& reason);
+    void check_drain();
+    void finish_replay(replay::EndReason reason, std::uint64_t hash);
     std::vector<proto::StandingEntry> current_standings() const;
-    void write_results(const RaceEnd& end) const;
+    std::vector<Racer> racers() const;
     int free_slot() const;
 
     ServerConfig config_;
@@ -216,6 +262,17 @@ private:
     int max_players_seen_ = 0;
     bool done_ = false;
     std::vector<net::Event> events_;
+    /// The lobby has had players (fewer than min_players) since then.
+    bool lobby_waiting_ = false;
+    std::uint64_t lobby_since_us_ = 0;
+    std::uint64_t next_lobby_log_us_ = 0;
+    bool draining_ = false;
+    /// shutdown() is under way (the race it ends must not shut down again).
+    bool shutting_down_ = false;
+    std::string drain_reason_;
+    std::uint64_t drain_until_us_ = 0;
+    std::int64_t race_start_unix_s_ = 0;
+    std::vector<std::pair<std::uint8_t, std::string>> racers_at_start_;
 };
 
 }  // namespace jetrace::server

@@ -82,7 +82,8 @@ enum class EndReason : std::uint8_t {
     finish_window = 2,  ///< the window after the first finish closed
     time_limit = 3,     ///< the race's time limit (or the offline run's length)
     abandoned = 4,      ///< no car was left
-    aborted = 5,        ///< the server stopped the race
+    aborted = 5,        ///< the server stopped the race at once
+    drained = 6,        ///< the server's drain timeout cut the race short
 };
 const char* end_reason_name(EndReason r);
 

@@ -1,0 +1,72 @@
+// jetrace-bot's outcomes and JSON lines.
+#include "bot_report.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+
+namespace jetrace::bot {
+
+ExitCode outcome_of(const client::RaceClient& c, bool finished, bool stopped) {
+    if (finished) return kFinished;
+    const std::string& why = c.close_reason();
+    if (why.starts_with("refused: ")) return kRefused;
+    if (why.starts_with("track mismatch")) return kBadArguments;
+    if (stopped) return kStopped;
+    if (why.starts_with("server: ")) return kServerGone;
+    if (c.races_finished() > 0) return kDidNotFinish;
+    return kLostConnection;
+}
+
+const char* outcome_name(ExitCode code) {
+    switch (code) {
+        case kFinished: return "finished";
+        case kDidNotFinish: return "did_not_finish";
+        case kBadArguments: return "incompatible";
+        case kRefused: return "refused";
+        case kLostConnection: return "lost_connection";
+        case kServerGone: return "server_gone";
+        case kStopped: return "stopped";
+    }
+    return "unknown";
+}
+
+ExitCode combine(ExitCode a, ExitCode b) {
+    // Most telling first: what the user must fix, then what went wrong.
+    for (ExitCode c : {kBadArguments, kRefused, kServerGone, kLostConnection, kStopped, kDidNotFinish}) {
+        if (a == c || b == c) return c;
+    }
+    return kFinished;
+}
+
+bool print_bot_line(const client::RaceClient& c, const std::string& name, bool stopped, double wall_s,
+                    ExitCode& code) {
+    const auto& r = c.results();
+    int position = 0;
+    bool finished = false;
+    for (std::size_t i = 0; i < r.standings.size(); ++i) {
+        if (r.standings[i].slot == c.slot() && r.standings[i].name == name) {
+            position = static_cast<int>(i) + 1;
+            finished = r.standings[i].finished;
+        }
+    }
+    code = outcome_of(c, finished, stopped);
+    const auto totals = c.totals();
+    nlohmann::json j;
+    j["name"] = name;
+    j["finished"] = finished;
+    j["position"] = position;
+    j["outcome"] = outcome_name(code);
+    j["corrections"] = c.stats().corrections;
+    j["max_correction_m"] = c.stats().max_correction_m;
+    j["snapshots"] = c.stats().snapshots;
+    j["rtt_ms"] = c.rtt_ms();
+    j["reconnects"] = c.stats().reconnects;
+    j["down_bytes_per_s"] = static_cast<double>(totals.bytes_received) / wall_s;
+    j["up_bytes_per_s"] = static_cast<double>(totals.bytes_sent) / wall_s;
+    j["closed"] = c.close_reason();
+    std::printf("%s\n", j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
+    return finished;
+}
+
+}  // namespace jetrace::bot

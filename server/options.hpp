@@ -1,0 +1,35 @@
+// jetrace-server's command line and the checks it does before listening.
+#pragma once
+
+#include "jetrace/net/transport.hpp"
+#include "jetrace/server/race_server.hpp"
+
+#include <string>
+
+namespace jetrace::server {
+
+struct HostOptions {
+    ServerConfig cfg;
+    net::ServerConfig net_cfg;
+    std::string track_spec = "stadium";
+    std::string log_level = "info";
+    int tick_rate = 120;
+    double time_scale = 1.0;
+    double hello_timeout_s = 5.0;
+    double drain_timeout_s = 60.0;
+    std::string lobby_timeout_action = "start";
+    std::string key_file;
+    std::string sign_key_file;
+    /// --results (%n and %t expand per race; "" = none).
+    std::string results_path;
+    /// --nonce-file ("" = spent nonces live in memory only).
+    std::string nonce_file;
+};
+
+/// Parses the command line. -1: go on; else the exit code (0 for --help).
+int parse_host_options(int argc, char** argv, HostOptions& o);
+/// Keys, spent nonces, and whether the results, replay and nonce files can
+/// be created: false with the message printed (exit 2, before listening).
+bool prepare_host(HostOptions& o);
+
+}  // namespace jetrace::server

@@ -1,0 +1,115 @@
+// RaceServer: the host's controls: the lobby timeout, the drain, shutdown.
+#include "jetrace/server/race_server.hpp"
+
+#include <spdlog/spdlog.h>
+
+namespace jetrace::server {
+
+void RaceServer::lobby_tick() {
+    const int waiting = players();
+    if (waiting >= config_.min_players) {
+        lobby_waiting_ = false;
+        start_race();
+        return;
+    }
+    if (waiting == 0) {
+        lobby_waiting_ = false;
+        return;
+    }
+    if (!lobby_waiting_) {
+        lobby_waiting_ = true;
+        lobby_since_us_ = now_us_;
+        next_lobby_log_us_ = now_us_;
+    }
+    if (now_us_ >= next_lobby_log_us_) {
+        spdlog::info("lobby: waiting {}/{} players", waiting, config_.min_players);
+        next_lobby_log_us_ = now_us_ + static_cast<std::uint64_t>(config_.lobby_log_interval_s * 1e6);
+    }
+    if (config_.lobby_timeout_s <= 0 ||
+        now_us_ - lobby_since_us_ < static_cast<std::uint64_t>(config_.lobby_timeout_s * 1e6)) {
+        return;
+    }
+    lobby_waiting_ = false;
+    const std::string what = fmt::format("lobby timed out after {:g} s with {} of {} players", config_.lobby_timeout_s,
+                                         waiting, config_.min_players);
+    if (config_.lobby_timeout_cancels) {
+        cancel_lobby(what + ": race cancelled");
+    } else {
+        spdlog::info("{}: starting anyway", what);
+        start_race();
+    }
+}
+
+void RaceServer::cancel_lobby(const std::string& reason) {
+    spdlog::info("{}", reason);
+    std::vector<net::PeerId> greeted;
+    for (const auto& [peer, c] : clients_) {
+        if (c.greeted) greeted.push_back(peer);
+    }
+    for (net::PeerId peer : greeted) {
+        send(peer, net::Channel::reliable, proto::Goodbye{reason});
+        transport_.disconnect(peer);
+        auto it = clients_.find(peer);
+        Client gone = std::move(it->second);
+        clients_.erase(it);
+        release(std::move(gone), false, "reconnect token no longer valid: the lobby was cancelled");
+    }
+    broadcast_status();
+}
+
+void RaceServer::drain(const std::string& reason, double timeout_s) {
+    if (done_) return;
+    const bool under_way = phase_ == proto::RacePhase::countdown || phase_ == proto::RacePhase::racing;
+    if (draining_ || !under_way) {
+        shutdown(draining_ ? reason + " (again: stopping at once)" : reason);
+        return;
+    }
+    draining_ = true;
+    drain_reason_ = reason;
+    drain_until_us_ = now_us_ + static_cast<std::uint64_t>(timeout_s * 1e6);
+    spdlog::info("{}: draining: race {} may finish within {:g} s of the server clock; new players are refused", reason, race_number_,
+                 timeout_s);
+}
+
+void RaceServer::check_drain() {
+    if (!draining_ || done_ || now_us_ < drain_until_us_) return;
+    if (phase_ == proto::RacePhase::racing) {
+        spdlog::info("drain timeout: race {} is cut short", race_number_);
+        end_race(replay::EndReason::drained);  // then shuts down
+    } else {
+        shutdown(drain_reason_);
+    }
+}
+
+std::vector<Racer> RaceServer::racers() const {
+    std::vector<Racer> out;
+    for (const auto& [slot, name] : racers_at_start_) {
+        const net::PeerId peer = slot_peer_[slot];
+        const auto it = clients_.find(peer);
+        const bool here = it != clients_.end() && it->second.name == name;
+        out.push_back({slot, name, !here});
+    }
+    return out;
+}
+
+void RaceServer::shutdown(const std::string& reason) {
+    if (done_ || shutting_down_) return;
+    shutting_down_ = true;
+    if (phase_ == proto::RacePhase::racing) end_race(replay::EndReason::aborted);
+    if (phase_ == proto::RacePhase::countdown) {
+        // Stopped before its start: not a result (the replay says why).
+        spdlog::info("race {} stopped in its countdown: no result", race_number_);
+        finish_replay(replay::EndReason::aborted, state_hash(world_));
+        phase_ = proto::RacePhase::lobby;
+    }
+    done_ = true;
+    replay_.abandon();
+    for (const auto& [peer, c] : clients_) {
+        send(peer, net::Channel::reliable, proto::Goodbye{reason});
+        transport_.disconnect(peer);
+    }
+    transport_.flush();
+    spdlog::info("server shutting down: {}", reason);
+}
+
+}  // namespace jetrace::server
