@@ -10,7 +10,7 @@ PACKAGES=(
   # libraries (all found with find_package / pkg-config)
   libenet-dev libeigen3-dev libflatbuffers-dev flatbuffers-compiler
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libspdlog-dev nlohmann-json3-dev
-  libtinyobjloader-dev libbullet-dev libsodium-dev
+  libtinyobjloader-dev libtinygltf-dev libbullet-dev libsodium-dev
   # charts, fuzzing runtime
   gnuplot-nox libclang-rt-14-dev
   # cross-platform determinism (tools/cross.sh): aarch64 under qemu, WebAssembly under node;

@@ -12,6 +12,7 @@
 //    only warns about out-of-range indices and keeps them);
 //  * remembers line numbers of groups for error messages.
 #include "jetrace/track_io.hpp"
+#include "track_raycast.hpp"
 
 #include <tiny_obj_loader.h>
 
@@ -31,8 +32,13 @@ static_assert(sizeof(tinyobj::real_t) == sizeof(double),
 namespace jetrace {
 namespace {
 
-constexpr double kRest_m = 2.5 + 1.0 / 1024.0;  // default car radius + gap, as in builtin_tracks.cpp
-constexpr std::size_t kMaxFileTriangles = 2 * kMaxTrackTriangles;  // memory guard before parsing
+using detail::kRest_m;
+using detail::Rest;
+using detail::rest_on_surface;
+
+// Memory guards of the pre-pass, before tinyobjloader parses anything: the
+// track's limit plus room for gate and spawn markers.
+constexpr std::size_t kMaxFileTriangles = kMaxTrackTriangles + 100'000;
 constexpr std::size_t kMaxFileVertices = 3 * kMaxTrackTriangles;
 constexpr std::string_view kGroupHelp = "expected 'track...', 'checkpoint_N', 'spawn_N' or 'kill_height'";
 
@@ -305,53 +311,6 @@ bool check_parts(const Parts& p, std::string& error) {
 
 // ------------------------------------------------------------- geometry
 
-// Nearest hit (t >= 0) of the ray o + t d on non-degenerate triangles
-// (Moeller-Trumbore, edges inclusive so shared edges leave no crack).
-bool raycast(const std::vector<Triangle>& tris, const Vec3& o, const Vec3& d, double& best_t, Vec3& best_n) {
-    constexpr double kEdge = 1e-9;
-    bool found = false;
-    for (const Triangle& tri : tris) {
-        if (tri.degenerate) continue;
-        const Vec3 e1 = tri.b - tri.a, e2 = tri.c - tri.a;
-        const Vec3 p = d.cross(e2);
-        const double det = e1.dot(p);
-        if (!(det * det > 1e-24 * e1.squaredNorm() * e2.squaredNorm())) continue;  // parallel
-        const double inv = 1.0 / det;
-        const Vec3 sv = o - tri.a;
-        const double u = sv.dot(p) * inv;
-        if (u < -kEdge || u > 1.0 + kEdge) continue;
-        const Vec3 q = sv.cross(e1);
-        const double v = d.dot(q) * inv;
-        if (v < -kEdge || u + v > 1.0 + kEdge) continue;
-        const double t = e2.dot(q) * inv;
-        if (t < -1e-9 || (found && t >= best_t)) continue;
-        found = true;
-        best_t = t;
-        best_n = tri.normal;
-    }
-    return found;
-}
-
-enum class Rest { ok, no_surface, bad_forward };
-
-// The car resting on the first surface along the ray: centre at the hit
-// point plus the surface normal (facing the ray's origin) times kRest_m,
-// up = that normal, forward = `toward` projected onto the surface.
-Rest rest_on_surface(const std::vector<Triangle>& tris, const Vec3& origin, const Vec3& dir, const Vec3& toward,
-                     Pose& out) {
-    double t = 0;
-    Vec3 n = Vec3::Zero();
-    if (!raycast(tris, origin, dir, t, n)) return Rest::no_surface;
-    if (n.dot(dir) > 0.0) n = -n;
-    const Vec3 f = toward - n * toward.dot(n);
-    const double len = f.norm();
-    if (!(len > 1e-9 * toward.norm()) || !(len > 0.0)) return Rest::bad_forward;
-    out.position = origin + dir * t + n * kRest_m;
-    out.forward = f / len;
-    out.up = n;
-    return Rest::ok;
-}
-
 // Distinct positions (bitwise) in order of first use.
 std::vector<Vec3> distinct_points(const std::vector<Vec3>& verts, const std::vector<std::uint32_t>& idx) {
     std::vector<Vec3> out;
@@ -499,6 +458,22 @@ bool import_obj(std::string_view text, const std::string& name, Track& out, std:
     }
     if (std::string problem = validate(track); !problem.empty()) return fail(error, std::move(problem));
     out = std::move(track);
+    return true;
+}
+
+bool import_obj_mesh(std::string_view text, ImportedMesh& out, std::string& error) {
+    Scan scan;
+    std::map<std::string, Group> groups;
+    if (!parse_obj(text, scan, groups, error)) return false;
+    ImportedMesh mesh;
+    for (const auto& [name, g] : groups) {
+        if (g.idx.empty()) continue;
+        MeshPart& part = mesh.parts.emplace_back();
+        part.name = name;
+        for (std::uint32_t i : g.idx) part.corners.push_back(scan.vertices[i]);
+    }
+    if (mesh.parts.empty()) return fail(error, "the OBJ file has no faces");
+    out = std::move(mesh);
     return true;
 }
 

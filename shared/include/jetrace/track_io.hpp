@@ -3,7 +3,9 @@
 // come back as an error message, never an assert or a crash.
 #pragma once
 
+#include "jetrace/mesh_import.hpp"
 #include "jetrace/track.hpp"
+#include "jetrace/track_manifest.hpp"
 
 #include <string>
 #include <string_view>
@@ -24,10 +26,26 @@ bool import_obj(std::string_view text, const std::string& name, Track& out, std:
 /// spawns and respawn poses are re-derived and agree to rounding.
 std::string export_obj(const Track& track);
 
-/// Reads and imports an OBJ file.
+/// Reads and imports an OBJ file (refused before reading when larger than
+/// kMaxTrackFileBytes).
 bool import_obj_file(const std::string& path, Track& out, std::string& error);
 
-/// `spec` is a built-in track name or a path to an .obj file.
+/// OBJ text as a plain mesh: one part per group name (sorted by name), no
+/// convention; what a manifest reads an .obj mesh with.
+bool import_obj_mesh(std::string_view text, ImportedMesh& out, std::string& error);
+
+/// A mesh file by its extension: .gltf, .glb or .obj (import_obj_mesh).
+bool import_mesh_file(const std::string& path, ImportedMesh& out, std::string& error);
+
+/// `spec` is a built-in track name, a path to an .obj file (the convention
+/// above) or to a track manifest (.json). A bare .gltf/.glb is refused: it
+/// has no gates, so it needs a manifest.
 bool load_track(const std::string& spec, Track& out, std::string& error);
+bool load_track(const std::string& spec, Track& out, TrackReport& report, std::string& error);
+
+/// As load_track(), but a bare .gltf/.glb is read as a mesh without gates or
+/// spawns (every part, degenerate triangles dropped): what
+/// `jetrace-track inspect` and `render` show. The track then does not validate.
+bool inspect_track(const std::string& spec, Track& out, TrackReport& report, std::string& error);
 
 }  // namespace jetrace
