@@ -73,6 +73,11 @@ int main(int argc, char** argv) {
     app.add_option("--hello-timeout", hello_timeout_s,
                    "drop a connection that has not said Hello after this long (s of real time, whatever --time-scale)")
         ->check(CLI::Range(0.1, 600.0));
+    net_cfg.max_pending_per_address = 4;
+    app.add_option("--pre-hello-limit", net_cfg.max_pending_per_address,
+                   "most connections one IP address may hold before their Hello; further requests are dropped "
+                   "(0: no limit)")
+        ->check(CLI::Range(0, 1000));
     app.add_option("--key-file", key_file,
                    "private race: admit only connect tokens signed with this key (jetrace-token keygen's FILE.pub)");
     app.add_option("--race-id", cfg.race_id, "private race: connect tokens must name this race (default: none)");
