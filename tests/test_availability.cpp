@@ -16,8 +16,11 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <sstream>
 #include <string>
+#include <thread>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -101,6 +104,58 @@ std::size_t lines_with(const std::string& text, const std::string& part) {
     std::size_t n = 0;
     for (std::string line; std::getline(in, line);) n += line.find(part) != std::string::npos ? 1 : 0;
     return n;
+}
+
+// Services `transports` (appending their events) every millisecond until
+// `done()` or `max_ms` of real time; false on timeout.
+bool pump(const std::vector<std::pair<net::Transport*, std::vector<net::Event>*>>& transports,
+          const std::function<bool()>& done, int max_ms) {
+    const auto deadline = Clock::now() + std::chrono::milliseconds(max_ms);
+    while (!done()) {
+        if (Clock::now() > deadline) return false;
+        for (auto& [t, events] : transports) {
+            t->service(0, *events);
+            t->flush();
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    return true;
+}
+
+std::size_t count(const std::vector<net::Event>& events, net::Event::Type type) {
+    return static_cast<std::size_t>(
+        std::count_if(events.begin(), events.end(), [type](const net::Event& e) { return e.type == type; }));
+}
+
+// The cap at the transport: with 1, a second connection from the same address
+// (another port) gets no slot until the first is admitted; then its ENet
+// resend gets in.
+TEST(Availability, TransportHoldsBackAnAddressAtItsCapUntilAdmit) {
+    net::ServerConfig cfg;
+    cfg.bind = "127.0.0.1";
+    cfg.max_connections = 8;
+    cfg.max_pending_per_address = 1;
+    std::string error;
+    auto server = net::listen_enet(cfg, error);
+    ASSERT_TRUE(server) << error;
+    auto a = net::connect_enet("127.0.0.1", server->local_port(), 5000, error);
+    ASSERT_TRUE(a) << error;
+    std::vector<net::Event> se, ae, be;
+    using Ev = net::Event::Type;
+    ASSERT_TRUE(pump({{server.get(), &se}, {a.get(), &ae}}, [&] { return count(se, Ev::connected) == 1; }, 2000));
+    const net::PeerId first = se.front().peer;
+    auto b = net::connect_enet("127.0.0.1", server->local_port(), 5000, error);
+    ASSERT_TRUE(b) << error;
+    // Its first try and its resend 0.5 s later are both dropped.
+    EXPECT_FALSE(pump({{server.get(), &se}, {a.get(), &ae}, {b.get(), &be}},
+                      [&] { return count(se, Ev::connected) > 1; }, 1200));
+    EXPECT_GE(server->totals().connects_refused, 2u);
+    EXPECT_EQ(count(be, Ev::connected), 0u);
+    server->admit(first);
+    // The next resend (1.5 s after the first try) finds the address below its cap.
+    EXPECT_TRUE(pump({{server.get(), &se}, {a.get(), &ae}, {b.get(), &be}},
+                     [&] { return count(se, Ev::connected) == 2 && count(be, Ev::connected) == 1; }, 3000));
+    EXPECT_EQ(count(ae, Ev::disconnected) + count(be, Ev::disconnected) + count(se, Ev::disconnected), 0u);
 }
 
 TEST(Availability, OneSocketWithoutHellosLocksNobodyOut) {
