@@ -24,6 +24,10 @@ void add_race_options(CLI::App& app, HostOptions& o) {
     ServerConfig& cfg = o.cfg;
     app.add_option("--port", o.net_cfg.port, "UDP port (0: any free port, printed at start)");
     app.add_option("--bind", o.net_cfg.bind, "address to bind");
+    app.add_option("--pre-hello-limit", o.net_cfg.max_pending_per_address,
+                   "most connections one IP address may hold before their Hello; further requests are dropped "
+                   "(0: no limit)")
+        ->check(CLI::Range(0, 1000));
     app.add_option("--track", o.track_spec, "built-in track (stadium, ring) or a Wavefront .obj file");
     app.add_option("--laps", cfg.laps, "laps per race")->check(CLI::Range(1, 1000));
     app.add_option("--max-players", cfg.max_players, "most players in a race")->check(CLI::Range(1, 64));
@@ -118,6 +122,7 @@ bool load_nonces(HostOptions& o) {
 int parse_host_options(int argc, char** argv, HostOptions& o) {
     CLI::App app{"jetrace-server: hosts hovercar races over UDP (ENet)"};
     o.net_cfg.port = 27910;
+    o.net_cfg.max_pending_per_address = 4;
     add_race_options(app, o);
     add_file_options(app, o);
     try {

@@ -2,7 +2,18 @@
 # Installs every dependency of jetrace from Debian 12 (bookworm) packages.
 # Idempotent: does nothing if all are installed. Runs apt-get directly as
 # root, through sudo otherwise. Works on a minimal system that has only apt.
+#
+#   tools/setup.sh           everything (build, tests, tools, cross checks)
+#   tools/setup.sh --server  only what building jetrace-server needs
+#                            (-DJETRACE_TESTS=OFF; deploy/Dockerfile uses it)
 set -euo pipefail
+
+# What building jetrace-server needs, and nothing else.
+SERVER_PACKAGES=(
+  g++ make cmake ninja-build pkg-config
+  libenet-dev libeigen3-dev libflatbuffers-dev flatbuffers-compiler
+  libcli11-dev libspdlog-dev nlohmann-json3-dev libtinyobjloader-dev libsodium-dev
+)
 
 PACKAGES=(
   # toolchain and build
@@ -19,6 +30,12 @@ PACKAGES=(
   # scripts
   python3 procps
 )
+
+case "${1:-}" in
+  "") ;;
+  --server) PACKAGES=("${SERVER_PACKAGES[@]}") ;;
+  *) echo "usage: tools/setup.sh [--server]" >&2; exit 2 ;;
+esac
 
 missing=()
 for p in "${PACKAGES[@]}"; do

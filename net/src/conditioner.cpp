@@ -72,6 +72,7 @@ public:
         scheduler_.push_barrier(static_cast<double>(now_ms_), std::move(marker));
     }
 
+    void admit(PeerId peer) override { inner_->admit(peer); }
     void flush() override { inner_->flush(); }
     PeerStats peer_stats(PeerId peer) const override { return inner_->peer_stats(peer); }
     Totals totals() const override { return inner_->totals(); }

@@ -16,9 +16,12 @@
 //   (all or nothing, and dropped if a newer large one already arrived).
 // - A full server silently ignores further connection attempts; the client
 //   then sees its attempt time out (a `disconnected` event).
+// - ENetHost::intercept sees every datagram the host receives, before ENet
+//   handles it (pre_hello_gate.hpp uses it to refuse connection requests).
 #include "jetrace/net/transport.hpp"
 
 #include "limits.hpp"
+#include "pre_hello_gate.hpp"
 
 #include <enet/enet.h>
 
@@ -101,11 +104,18 @@ bool decode_id(const ENetPeer* peer, PeerId& id) {
 
 std::string errno_text(int err) { return err != 0 ? std::generic_category().message(err) : std::string("unknown error"); }
 
+class EnetTransport;
+// The transport whose service() is running on this thread (ENet's intercept
+// callback gets the host only).
+thread_local EnetTransport* t_servicing = nullptr;
+int ENET_CALLBACK intercept(ENetHost* host, ENetEvent* event);
+
 class EnetTransport final : public Transport {
 public:
     enum class Role : std::uint8_t { server, client };
 
-    EnetTransport(Role role, TimeoutPlan plan) : role_(role), plan_(plan) {}
+    EnetTransport(Role role, TimeoutPlan plan, std::size_t max_pending_per_address = 0)
+        : role_(role), plan_(plan), gate_(max_pending_per_address) {}
 
     ~EnetTransport() override {
         if (host_ == nullptr) return;
@@ -129,8 +139,15 @@ public:
         host_->maximumPacketSize = detail::kMaxDatagramBytes;
         ENetAddress bound{};
         if (enet_socket_get_address(host_->socket, &bound) == 0) local_port_ = bound.port;
+        if (role_ == Role::server) {
+            gate_.attach(*host_);
+            host_->intercept = &intercept;
+        }
         configure_peers();
     }
+
+    // ENet's intercept callback, for a datagram `host` just received: 1 drops it.
+    int on_datagram(const ENetHost* host) { return host == host_ && gate_.refuse(*host_) ? 1 : 0; }
 
     // Client only: the peer of the connection attempt becomes PeerId 0.
     void adopt_server_peer(ENetPeer* peer) {
@@ -144,11 +161,14 @@ public:
         pending_.clear();
         configure_peers();
         ENetEvent ev{};
+        EnetTransport* const outer = t_servicing;
+        t_servicing = this;
         // Bounded so that a flood cannot keep one call busy forever.
         for (std::size_t n = 0; n < kMaxEventsPerService; ++n) {
             if (enet_host_service(host_, &ev, 0) <= 0) break;
             handle(ev, events);
         }
+        t_servicing = outer;
         configure_peers();
         absorb_counters();
     }
@@ -183,12 +203,18 @@ public:
         // reports nothing; report it ourselves on the next service().
         if (p->state == ENET_PEER_STATE_DISCONNECTED) {
             p->data = nullptr;
+            gate_.forget(*host_, *p);
             peers_.erase(it);
             Event e;
             e.type = Event::Type::disconnected;
             e.peer = peer;
             pending_.push_back(std::move(e));
         }
+    }
+
+    void admit(PeerId peer) override {
+        const auto it = peers_.find(peer);
+        if (it != peers_.end()) gate_.admit(*host_, *it->second);
     }
 
     void flush() override {
@@ -215,6 +241,7 @@ public:
         t.bytes_received += host_->totalReceivedData;
         t.packets_sent += host_->totalSentPackets;
         t.packets_received += host_->totalReceivedPackets;
+        t.connects_refused = gate_.refused();
         return t;
     }
 
@@ -232,6 +259,7 @@ private:
                     id = next_id_++;
                     ev.peer->data = encode_id(id);
                     peers_[id] = ev.peer;
+                    gate_.forget(*host_, *ev.peer);
                 } else if (!decode_id(ev.peer, id)) {
                     break;
                 }
@@ -251,6 +279,7 @@ private:
                     events.push_back(std::move(e));
                 }
                 ev.peer->data = nullptr;
+                gate_.forget(*host_, *ev.peer);
                 break;
             }
             case ENET_EVENT_TYPE_RECEIVE: {
@@ -314,6 +343,7 @@ private:
     LibraryRef library_;  // first member: outlives the host
     Role role_;
     TimeoutPlan plan_;
+    detail::PreHelloGate gate_;
     ENetHost* host_ = nullptr;
     std::uint16_t local_port_ = 0;
     PeerId next_id_ = 1;
@@ -321,6 +351,10 @@ private:
     std::vector<Event> pending_;
     Totals totals_;
 };
+
+int ENET_CALLBACK intercept(ENetHost* host, ENetEvent* /*event: left as is*/) {
+    return t_servicing != nullptr ? t_servicing->on_datagram(host) : 0;
+}
 
 // Resolves a dotted address or a host name into `address`.
 bool resolve(const std::string& host, ENetAddress& address) {
@@ -342,7 +376,8 @@ std::unique_ptr<Transport> listen_enet(const ServerConfig& config, std::string& 
         error = "cannot listen on UDP " + where + ": timeout_ms must be > 0";
         return nullptr;
     }
-    auto transport = std::make_unique<EnetTransport>(EnetTransport::Role::server, plan_timeouts(config.timeout_ms));
+    auto transport = std::make_unique<EnetTransport>(EnetTransport::Role::server, plan_timeouts(config.timeout_ms),
+                                                     config.max_pending_per_address);
     if (!transport->library_ok()) {
         error = "cannot listen on UDP " + where + ": enet_initialize failed";
         return nullptr;

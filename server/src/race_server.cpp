@@ -178,6 +178,9 @@ void RaceServer::on_hello(Client& c, const proto::Hello& h) {
 }
 
 void RaceServer::send_welcome(Client& c) {
+    // Past its Hello: the connection no longer counts against its address's
+    // pre-Hello cap (net::ServerConfig::max_pending_per_address).
+    transport_.admit(c.peer);
     // A fresh secret for every Welcome: the one a reconnect used is spent.
     auth::random_bytes(c.reconnect_token);
     proto::Welcome w;

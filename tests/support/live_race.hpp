@@ -54,6 +54,8 @@ struct LiveRaceOptions {
     std::size_t spare_connections = 8;
     /// The server's ENet timeout (unit: ms).
     std::uint32_t server_timeout_ms = 5000;
+    /// net::ServerConfig::max_pending_per_address (0: no cap; unit: connections).
+    std::size_t max_pending_per_address = 0;
     /// After the first car finishes, the others have this long (unit: s).
     double finish_window_s = 120;
     /// Virtual time a connection may stay silent before its Hello (unit: s).
@@ -132,6 +134,7 @@ public:
         ncfg.port = 0;
         ncfg.max_connections = static_cast<std::size_t>(cfg.max_players) + o.spare_connections;
         ncfg.timeout_ms = o.server_timeout_ms;
+        ncfg.max_pending_per_address = o.max_pending_per_address;
         if (o.tweak) o.tweak(cfg);
         server_net_ = net::listen_enet(ncfg, error);
         if (!server_net_) return;

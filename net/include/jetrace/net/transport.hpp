@@ -45,6 +45,10 @@ struct Totals {
     std::uint64_t bytes_received = 0;
     std::uint64_t packets_sent = 0;
     std::uint64_t packets_received = 0;
+    /// Connection requests (ENet CONNECT datagrams, a client's retries
+    /// included) dropped because their IP address already held
+    /// ServerConfig::max_pending_per_address connections without a Hello.
+    std::uint64_t connects_refused = 0;
 };
 
 class Transport {
@@ -57,6 +61,11 @@ public:
     virtual bool send(PeerId peer, Channel channel, std::span<const std::uint8_t> data) = 0;
     /// Graceful disconnect (queued reliable data goes first where possible).
     virtual void disconnect(PeerId peer) = 0;
+    /// The server accepted this peer's Hello: it no longer counts against
+    /// its address's cap of connections without one
+    /// (ServerConfig::max_pending_per_address). Transports without that cap
+    /// have nothing to do; decorators pass it on.
+    virtual void admit(PeerId /*peer*/) {}
     /// Pushes queued datagrams to the socket now.
     virtual void flush() = 0;
     virtual PeerStats peer_stats(PeerId peer) const = 0;
@@ -74,6 +83,11 @@ struct ServerConfig {
     std::size_t max_connections = 72;
     /// A peer that stops answering is dropped after this long (unit: ms).
     std::uint32_t timeout_ms = 5000;
+    /// Most connections one IP address may hold before the server admits
+    /// them (Transport::admit, on a Hello it accepts), handshakes in progress
+    /// included; a connection request beyond it is dropped before ENet gives
+    /// it a slot, and the client's ENet retries it. 0: no cap (unit: connections).
+    std::size_t max_pending_per_address = 0;
 };
 
 /// A listening ENet host; nullptr and `error` if it cannot bind.

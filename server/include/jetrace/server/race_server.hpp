@@ -143,6 +143,10 @@ public:
     std::uint32_t replay_failures() const { return replay_failures_; }
     std::uint64_t ticks() const { return ticks_; }
     int max_players_seen() const { return max_players_seen_; }
+    /// Connection requests the transport dropped because their address
+    /// already held its cap of connections without a Hello (unit: datagrams;
+    /// net::Totals::connects_refused).
+    std::uint64_t refused_pre_hello() const { return transport_.totals().connects_refused; }
     int players() const;
     /// Slots held for players who dropped, waiting for their reconnect.
     int held_slots() const { return static_cast<int>(held_.size()); }
