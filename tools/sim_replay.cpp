@@ -12,7 +12,10 @@ namespace jetrace::sim {
 
 namespace {
 
-replay::SceneFor scenes(const ReplayArgs& args) { return replay::scene_for(load_track, args.track); }
+replay::SceneFor scenes(const ReplayArgs& args) {
+    return replay::scene_for([](const std::string& spec, Track& out, std::string& error) { return load_track(spec, out, error); },
+                             args.track);
+}
 
 bool open(const std::string& path, replay::FileSource& src) {
     std::string error;
