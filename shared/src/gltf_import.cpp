@@ -207,6 +207,12 @@ bool add_primitive(Walk& w, const tinygltf::Primitive& p, const Mat4& world, Mes
     }
     const auto pos = p.attributes.find("POSITION");
     if (pos == p.attributes.end()) return fail(what, "a primitive has no POSITION");
+    // The declared count, before any vertex is read.
+    const int counted = p.indices >= 0 ? p.indices : pos->second;
+    if (counted < 0 || static_cast<std::size_t>(counted) >= w.m.accessors.size()) return fail(what, "accessor index out of range");
+    if (w.m.accessors[counted].count / 3 > kMaxTrackTriangles - w.triangles) {
+        return fail(what, "more than " + std::to_string(kMaxTrackTriangles) + " triangles in the file");
+    }
     std::vector<Vec3> verts;
     std::vector<std::uint32_t> idx;
     if (!read_positions(w.m, pos->second, verts, what)) return false;
@@ -218,9 +224,6 @@ bool add_primitive(Walk& w, const tinygltf::Primitive& p, const Mat4& world, Mes
     }
     if (idx.size() % 3 != 0) return fail(what, std::to_string(idx.size()) + " indices: not a multiple of 3");
     w.triangles += idx.size() / 3;
-    if (w.triangles > kMaxTrackTriangles) {
-        return fail(what, "more than " + std::to_string(kMaxTrackTriangles) + " triangles in the file");
-    }
     for (std::size_t i = 0; i < verts.size(); ++i) {
         const Eigen::Vector4d h = world * Eigen::Vector4d(verts[i].x(), verts[i].y(), verts[i].z(), 1.0);
         verts[i] = h.head<3>();
