@@ -173,3 +173,20 @@ TEST(GltfImport, ExternalFilesAreRefusedFromMemoryAndGarbageIsRefused) {
     EXPECT_FALSE(import_gltf_bytes("{\"asset\": 3}", "", m, error));
     EXPECT_FALSE(error.empty());
 }
+
+TEST(GltfImport, DeclaredTriangleCountOverTheLimitIsRefusedBeforeReading) {
+    json doc = document({{"byteLength", 96}});
+    doc["accessors"][1]["count"] = 3 * (kMaxTrackTriangles + 1);  // far past the 12 bytes it has
+    EXPECT_NE(refused(doc, buffer_bytes()).find("more than 4000000 triangles in the file"), std::string::npos);
+}
+
+TEST(ObjSizeLimits, FaceCountOverTheLimitIsRefusedInThePrePass) {
+    std::string text = "g track\nv 0 0 0\nv 1 0 0\nv 0 0 1\n";
+    const std::string face = "f 1 2 3\n";
+    text.reserve(text.size() + face.size() * (kMaxTrackTriangles + 100'001));
+    for (std::size_t i = 0; i < kMaxTrackTriangles + 100'001; ++i) text += face;
+    Track t;
+    std::string error;
+    EXPECT_FALSE(import_obj(text, "big", t, error));
+    EXPECT_NE(error.find("too many faces (over 4100000 triangles)"), std::string::npos) << error;
+}
