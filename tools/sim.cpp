@@ -105,7 +105,7 @@ int main(int argc, char** argv) {
     std::string replay_path, verify_path, synctest_path, expect;
     std::vector<std::string> diff;
     bool rebuild = false;
-    app.add_option("--track", race.track, "built-in track name (stadium, ring) or a Wavefront .obj file");
+    app.add_option("--track", race.track, "built-in track name (stadium, ring), a Wavefront .obj file or a track manifest (.json, docs/TRACKS.md)");
     app.add_option("--cars", race.cars, "number of AI cars")->check(CLI::Range(1, 64));
     app.add_option("--seconds", race.seconds, "simulated seconds")->check(jetrace::cli::finite() & CLI::Range(0.0, 86400.0));
     app.add_option("--seed", race.seed, "seed for the AI drivers' skills");

@@ -7,6 +7,8 @@
 #include "jetrace/mesh_import.hpp"
 #include "jetrace/track.hpp"
 
+#include "gltf_files.hpp"
+
 #include <tiny_gltf.h>
 
 #include <Eigen/Geometry>
@@ -15,66 +17,16 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <sys/stat.h>
 
 namespace jetrace {
 namespace {
+
+using namespace detail::gltf_files;
 
 using Mat4 = Eigen::Matrix4d;
 
 bool fail(std::string& error, std::string message) {
     error = std::move(message);
-    return false;
-}
-
-// ------------------------------------------------------------ file access
-
-bool no_image(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
-    return true;  // textures are irrelevant to a track; never decoded
-}
-
-bool regular_file_size(const std::string& path, std::size_t& size, std::string& error) {
-    struct stat st {};
-    if (::stat(path.c_str(), &st) != 0) return fail(error, "cannot open '" + path + "'");
-    if (!S_ISREG(st.st_mode)) return fail(error, "'" + path + "' is not a regular file");
-    size = static_cast<std::size_t>(st.st_size);
-    if (size > kMaxTrackFileBytes) {
-        return fail(error, "'" + path + "' is " + std::to_string(size) + " bytes; at most " +
-                               std::to_string(kMaxTrackFileBytes) + " are read");
-    }
-    return true;
-}
-
-// user_data: a bool, false when no file may be read (bytes from memory).
-bool read_whole(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* allowed) {
-    if (allowed && !*static_cast<const bool*>(allowed)) {
-        if (err) *err += "external file '" + path + "' is not allowed here\n";
-        return false;
-    }
-    std::size_t size = 0;
-    std::string e;
-    if (!regular_file_size(path, size, e)) {
-        if (err) *err += e + "\n";
-        return false;
-    }
-    std::ifstream in(path, std::ios::binary);
-    out->resize(size);
-    if (!in.read(reinterpret_cast<char*>(out->data()), static_cast<std::streamsize>(size))) {
-        if (err) *err += "cannot read '" + path + "'\n";
-        return false;
-    }
-    return true;
-}
-
-bool file_exists(const std::string& path, void* allowed) {
-    if (allowed && !*static_cast<const bool*>(allowed)) return false;
-    struct stat st {};
-    return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
-}
-std::string expand_path(const std::string& path, void*) { return path; }  // no ~ or $VAR expansion
-bool no_write(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
-    if (err) *err += "writing is disabled\n";
     return false;
 }
 
@@ -207,6 +159,12 @@ bool add_primitive(Walk& w, const tinygltf::Primitive& p, const Mat4& world, Mes
     }
     const auto pos = p.attributes.find("POSITION");
     if (pos == p.attributes.end()) return fail(what, "a primitive has no POSITION");
+    // The declared count, before any vertex is read.
+    const int counted = p.indices >= 0 ? p.indices : pos->second;
+    if (counted < 0 || static_cast<std::size_t>(counted) >= w.m.accessors.size()) return fail(what, "accessor index out of range");
+    if (w.m.accessors[counted].count / 3 > kMaxTrackTriangles - w.triangles) {
+        return fail(what, "more than " + std::to_string(kMaxTrackTriangles) + " triangles in the file");
+    }
     std::vector<Vec3> verts;
     std::vector<std::uint32_t> idx;
     if (!read_positions(w.m, pos->second, verts, what)) return false;
@@ -218,9 +176,6 @@ bool add_primitive(Walk& w, const tinygltf::Primitive& p, const Mat4& world, Mes
     }
     if (idx.size() % 3 != 0) return fail(what, std::to_string(idx.size()) + " indices: not a multiple of 3");
     w.triangles += idx.size() / 3;
-    if (w.triangles > kMaxTrackTriangles) {
-        return fail(what, "more than " + std::to_string(kMaxTrackTriangles) + " triangles in the file");
-    }
     for (std::size_t i = 0; i < verts.size(); ++i) {
         const Eigen::Vector4d h = world * Eigen::Vector4d(verts[i].x(), verts[i].y(), verts[i].z(), 1.0);
         verts[i] = h.head<3>();

@@ -50,6 +50,24 @@ struct Ground {
     std::size_t tri = 0;
 };
 
+// The lowest surface on the vertical line through p (normals are not trusted:
+// exports wind faces either way), or the top of a stack of surfaces less than
+// 0.25 m apart there (a road laid on terrain, a decal on a floor).
+bool lowest_floor(const Surface& s, const RoutePoint& p, Ground& g) {
+    constexpr double kLayer_m = 0.25, kStep_m = 1e-3;
+    double t = 0;
+    const Vec3 below(p.x, s.bounds.min.y() - 1.0, p.z);
+    if (!raycast_index(s.tris, below, kWorldUp, t, g.tri)) return false;
+    g.point = below + kWorldUp * t;
+    std::size_t next = 0;
+    for (int i = 0; i < 256; ++i) {
+        if (!raycast_index(s.tris, g.point + kWorldUp * kStep_m, kWorldUp, t, next) || t + kStep_m > kLayer_m) break;
+        g.point += kWorldUp * (t + kStep_m);
+        g.tri = next;
+    }
+    return true;
+}
+
 // The road under a route point: below its y when it has one, else the
 // lowest (or highest) surface on the vertical line through it.
 bool ground_at(const Surface& s, const RoutePoint& p, Ground& g) {
@@ -60,9 +78,7 @@ bool ground_at(const Surface& s, const RoutePoint& p, Ground& g) {
     } else if (s.mode == RouteSurface::highest) {
         o.y() = s.bounds.max.y() + 1.0;
     } else {
-        const Vec3 below(p.x, s.bounds.min.y() - 1.0, p.z);
-        if (!raycast_index(s.tris, below, kWorldUp, t, g.tri)) return false;
-        o.y() = below.y() + t + kCarHeight_m;
+        return lowest_floor(s, p, g);
     }
     if (!raycast_index(s.tris, o, -kWorldUp, t, g.tri)) return false;
     g.point = o - kWorldUp * t;
@@ -120,7 +136,12 @@ bool make_gate(const Surface& s, std::size_t i, const ManifestGate& spec, const 
 }
 
 bool route_gates(const TrackManifest& m, const Surface& s, const RouteLine& r, Track& t, std::string& error) {
-    const auto k = static_cast<std::size_t>(std::max(2.0, std::round(r.length() / m.gate_spacing_m)));
+    const double count = std::max(2.0, std::round(r.length() / m.gate_spacing_m));
+    if (count > 10000) {
+        return fail(error, "the route is " + metres(r.length()) + " long: more than 10000 gates at 'gate_spacing_m' " +
+                               metres(m.gate_spacing_m));
+    }
+    const auto k = static_cast<std::size_t>(count);
     for (std::size_t i = 0; i < k; ++i) {
         ManifestGate spec;
         Vec3 dir;

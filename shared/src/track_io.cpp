@@ -59,7 +59,7 @@ bool import_obj_file(const std::string& path, Track& out, std::string& error) {
     return true;
 }
 
-bool load_track(const std::string& spec, Track& out, TrackReport& report, std::string& error) {
+bool load_track_report(const std::string& spec, Track& out, TrackReport& report, std::string& error) {
     if (make_builtin_track(spec, out)) {
         plain_report(out, "builtin", report);
         return true;
@@ -91,11 +91,11 @@ bool load_track(const std::string& spec, Track& out, TrackReport& report, std::s
 
 bool load_track(const std::string& spec, Track& out, std::string& error) {
     TrackReport report;
-    return load_track(spec, out, report, error);
+    return load_track_report(spec, out, report, error);
 }
 
 bool inspect_track(const std::string& spec, Track& out, TrackReport& report, std::string& error) {
-    if (!is_gltf(spec)) return load_track(spec, out, report, error);
+    if (!is_gltf(spec)) return load_track_report(spec, out, report, error);
     ImportedMesh mesh;
     if (!import_gltf_file(spec, mesh, error)) return false;
     TrackManifest m;

@@ -41,7 +41,7 @@ bool import_mesh_file(const std::string& path, ImportedMesh& out, std::string& e
 /// above) or to a track manifest (.json). A bare .gltf/.glb is refused: it
 /// has no gates, so it needs a manifest.
 bool load_track(const std::string& spec, Track& out, std::string& error);
-bool load_track(const std::string& spec, Track& out, TrackReport& report, std::string& error);
+bool load_track_report(const std::string& spec, Track& out, TrackReport& report, std::string& error);
 
 /// As load_track(), but a bare .gltf/.glb is read as a mesh without gates or
 /// spawns (every part, degenerate triangles dropped): what
