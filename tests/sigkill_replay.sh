@@ -3,7 +3,8 @@
 # replay that reads as incomplete, never as a shorter complete race:
 # jetrace-sim --verify exits 1 with problem "incomplete" (or "truncated" if
 # the kill cut a write), and --replay exits non-zero too. A server stopped
-# with SIGTERM writes the trailer: end_reason "aborted", and it verifies.
+# at once (SIGTERM twice: the first one drains, the second stops) writes the
+# trailer: end_reason "aborted", and it verifies.
 # Usage: sigkill_replay.sh SERVER BOT SIM
 set -euo pipefail
 . "$(dirname "$0")/../tools/server_port.sh"
@@ -22,6 +23,10 @@ race() {  # race SIGNAL: starts a race, sends SIGNAL to the server 2 s after the
   grep -q 'race 1: go' "$out/server.log" || { cat "$out/server.log"; echo "the race did not start"; exit 1; }
   sleep 2
   kill "-$1" "$server_pid"
+  if [ "$1" = TERM ]; then
+    for _ in $(seq 1 100); do grep -q 'draining' "$out/server.log" && break; sleep 0.05; done
+    kill -TERM "$server_pid"
+  fi
   wait "$server_pid" || true
   kill "$bots_pid" 2>/dev/null || true
   wait "$bots_pid" || true

@@ -202,7 +202,8 @@ bool decode(std::span<const std::uint8_t> in, std::size_t slots, Trailer& t, std
     std::uint8_t reason = 0, removed = 0;
     std::uint16_t n = 0;
     bool ok = get_u32(in, off, t.final_tick) && get_u64(in, off, t.final_state_hash) && get_u8(in, off, reason) &&
-              reason >= 1 && reason <= 6 && get_i64(in, off, t.end_unix_s) && get_u8(in, off, removed) &&
+              reason >= 1 && reason <= static_cast<std::uint8_t>(EndReason::drained) &&
+              get_i64(in, off, t.end_unix_s) && get_u8(in, off, removed) &&
               in.size() - off >= removed;
     if (!ok) return finish(in, off, false, "trailer", error);
     t.removed.assign(in.begin() + static_cast<std::ptrdiff_t>(off), in.begin() + static_cast<std::ptrdiff_t>(off + removed));
