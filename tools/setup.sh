@@ -11,12 +11,14 @@ PACKAGES=(
   libenet-dev libeigen3-dev libflatbuffers-dev flatbuffers-compiler
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libspdlog-dev nlohmann-json3-dev
   libtinyobjloader-dev libbullet-dev libsodium-dev
+  # hosting (server/ops): HTTP (Agones SDK, metrics endpoint), Prometheus text format
+  libcpp-httplib-dev prometheus-cpp-dev
   # charts, fuzzing runtime
   gnuplot-nox libclang-rt-14-dev
   # cross-platform determinism (tools/cross.sh): aarch64 under qemu, WebAssembly under node
   g++-aarch64-linux-gnu qemu-user emscripten nodejs
-  # scripts
-  python3 procps
+  # scripts; prometheus for the ops test that scrapes the server
+  python3 procps prometheus
 )
 
 missing=()
