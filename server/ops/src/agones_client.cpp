@@ -83,64 +83,45 @@ bool AgonesClient::post(httplib::Client& cli, const char* path, std::string& err
     return true;
 }
 
-void AgonesClient::work() {
-    httplib::Client cli(config_.host, config_.port);
-    cli.set_connection_timeout(1s);
-    cli.set_read_timeout(2s);
-    cli.set_write_timeout(2s);
-    const auto started = Clock::now();
-    const auto timeout = seconds(config_.connect_timeout_s);
-    const auto period = seconds(config_.health_period_s);
-    auto backoff = Clock::duration(100ms);
-    auto next_health = started;
-    bool outage_logged = false;
-    for (;;) {
-        {
-            std::lock_guard lock(mutex_);
-            if (stopping_) return;
-            if (shutdown_wanted_) break;
-        }
-        std::string error;
-        const auto now = Clock::now();
-        if (!ready_) {
-            if (post(cli, "/ready", error)) {
-                ready_ = true;
-                spdlog::info("agones: Ready (sidecar at {}:{})", config_.host, config_.port);
-                continue;
-            }
-            if (now - started > timeout) {
-                fail(fmt::format("no Agones sidecar answered at {}:{} within {} s ({})", config_.host, config_.port,
-                                 config_.connect_timeout_s, error));
-            } else if (!outage_logged) {
-                spdlog::info("agones: sidecar not answering yet ({}); retrying for {} s", error,
-                             config_.connect_timeout_s);
-                outage_logged = true;
-            }
-            pause(backoff);
-            backoff = std::min<Clock::duration>(backoff * 2, 2s);
-            continue;
-        }
-        if (now >= next_health) {
-            next_health = now + period;
-            // Health reflects the tick loop: no heartbeat, no ping.
-            const auto beat = Clock::time_point(Clock::duration(heartbeat_.load()));
-            if (now - beat > std::max<Clock::duration>(3 * period, 1s)) {
-                spdlog::warn("agones: the server loop is stalled; no Health ping");
-            } else if (post(cli, "/health", error)) {
-                if (outage_logged) spdlog::info("agones: sidecar answering again");
-                outage_logged = false;
-            } else if (!outage_logged) {
-                spdlog::warn("agones: Health failed ({}); retrying", error);
-                outage_logged = true;
-            }
-        }
-        const auto contact = Clock::time_point(Clock::duration(last_contact_.load()));
-        if (now - contact > timeout) {
-            fail(fmt::format("the Agones sidecar has not answered for {} s", config_.connect_timeout_s));
-        }
-        pause(std::max<Clock::duration>(next_health - Clock::now(), 1ms));
+void AgonesClient::try_ready(httplib::Client& cli, Clock::time_point started) {
+    std::string error;
+    if (post(cli, "/ready", error)) {
+        ready_ = true;
+        outage_logged_ = false;
+        spdlog::info("agones: Ready (sidecar at {}:{})", config_.host, config_.port);
+        return;
     }
-    // Shutdown, retried until the deadline shutdown() set.
+    if (Clock::now() - started > seconds(config_.connect_timeout_s)) {
+        fail(fmt::format("no Agones sidecar answered at {}:{} within {} s ({})", config_.host, config_.port,
+                         config_.connect_timeout_s, error));
+    } else if (!outage_logged_) {
+        spdlog::info("agones: sidecar not answering yet ({}); retrying for {} s", error, config_.connect_timeout_s);
+        outage_logged_ = true;
+    }
+}
+
+void AgonesClient::ping_health(httplib::Client& cli) {
+    const auto now = Clock::now();
+    const auto period = seconds(config_.health_period_s);
+    // Health reflects the tick loop: no heartbeat, no ping.
+    const auto beat = Clock::time_point(Clock::duration(heartbeat_.load()));
+    std::string error;
+    if (now - beat > std::max<Clock::duration>(3 * period, 1s)) {
+        spdlog::warn("agones: the server loop is stalled; no Health ping");
+    } else if (post(cli, "/health", error)) {
+        if (outage_logged_) spdlog::info("agones: sidecar answering again");
+        outage_logged_ = false;
+    } else if (!outage_logged_) {
+        spdlog::warn("agones: Health failed ({}); retrying", error);
+        outage_logged_ = true;
+    }
+    const auto contact = Clock::time_point(Clock::duration(last_contact_.load()));
+    if (now - contact > seconds(config_.connect_timeout_s)) {
+        fail(fmt::format("the Agones sidecar has not answered for {} s", config_.connect_timeout_s));
+    }
+}
+
+void AgonesClient::send_shutdown(httplib::Client& cli) {
     std::string error;
     bool ok = false;
     for (int attempt = 0; !ok && attempt < 20; ++attempt) {
@@ -159,6 +140,37 @@ void AgonesClient::work() {
     shutdown_done_ = true;
     shutdown_ok_ = ok;
     wake_.notify_all();
+}
+
+void AgonesClient::work() {
+    httplib::Client cli(config_.host, config_.port);
+    cli.set_connection_timeout(1s);
+    cli.set_read_timeout(2s);
+    cli.set_write_timeout(2s);
+    const auto started = Clock::now();
+    auto backoff = Clock::duration(100ms);
+    auto next_health = started;
+    for (;;) {
+        {
+            std::lock_guard lock(mutex_);
+            if (stopping_) return;
+            if (shutdown_wanted_) break;
+        }
+        if (!ready_) {
+            try_ready(cli, started);
+            if (!ready_) {
+                pause(backoff);
+                backoff = std::min<Clock::duration>(backoff * 2, 2s);
+            }
+            continue;
+        }
+        if (Clock::now() >= next_health) {
+            next_health = Clock::now() + seconds(config_.health_period_s);
+            ping_health(cli);
+        }
+        pause(std::max<Clock::duration>(next_health - Clock::now(), 1ms));
+    }
+    send_shutdown(cli);
 }
 
 void AgonesClient::on_watch_line(const std::string& line) {

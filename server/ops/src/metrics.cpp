@@ -105,7 +105,7 @@ std::unique_ptr<Metrics> Metrics::serve(const std::string& host, int port, std::
     auto m = std::make_unique<Metrics>();
     Metrics* self = m.get();
     httplib::Server& http = m->impl_->http;
-    http.new_task_queue = [] { return new httplib::ThreadPool(2); };
+    http.new_task_queue = [] { return new httplib::ThreadPool(4); };
     http.set_payload_max_length(4096);
     http.Get("/metrics", [self](const httplib::Request&, httplib::Response& res) {
         res.set_content(self->metrics_text(), "text/plain; version=0.0.4; charset=utf-8");

@@ -61,6 +61,9 @@ public:
 private:
     using Clock = std::chrono::steady_clock;
     void work();
+    void try_ready(httplib::Client& cli, Clock::time_point started);
+    void ping_health(httplib::Client& cli);
+    void send_shutdown(httplib::Client& cli);
     void watch();
     bool post(httplib::Client& cli, const char* path, std::string& error);
     void on_watch_line(const std::string& line);
@@ -78,6 +81,7 @@ private:
     bool shutdown_done_ = false;
     bool shutdown_ok_ = false;
     std::atomic<bool> ready_{false};
+    bool outage_logged_ = false;  // worker thread only
     std::atomic<Clock::rep> heartbeat_{0};
     std::atomic<Clock::rep> last_contact_{0};
     std::unique_ptr<httplib::Client> watch_client_;  // guarded by mutex_ (stop() from another thread)
