@@ -82,7 +82,8 @@ bool open_host(const Options& o, Host& host) {
 /// Until Agones allocates the server: refuse players, keep Health going.
 /// 0 once allocated (race options applied), else the exit code.
 int wait_for_allocation(const jetrace::Scene& scene, Options& o, Host& host) {
-    jetrace::ops::UnallocatedGate gate(static_cast<std::uint64_t>(o.hello_timeout_s * 1000));
+    // On the server's (scaled) clock, as RaceServer's hello timeout.
+    jetrace::ops::UnallocatedGate gate(static_cast<std::uint64_t>(o.cfg.hello_timeout_s * 1000));
     spdlog::info("waiting for the Agones allocation (players are refused until then)");
     for (;;) {
         host.agones->heartbeat();
