@@ -11,14 +11,15 @@ PACKAGES=(
   libenet-dev libeigen3-dev libflatbuffers-dev flatbuffers-compiler
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libspdlog-dev nlohmann-json3-dev
   libtinyobjloader-dev libbullet-dev libsodium-dev
-  # hosting (server/ops): HTTP (Agones SDK, metrics endpoint), Prometheus text format
-  libcpp-httplib-dev prometheus-cpp-dev
+  # hosting (server/ops): HTTP (Agones SDK, metrics endpoint), Prometheus text format;
+  # prometheus itself for the ops test that scrapes the server
+  libcpp-httplib-dev prometheus-cpp-dev prometheus
   # charts, fuzzing runtime
   gnuplot-nox libclang-rt-14-dev
   # cross-platform determinism (tools/cross.sh): aarch64 under qemu, WebAssembly under node
   g++-aarch64-linux-gnu qemu-user emscripten nodejs
-  # scripts; prometheus for the ops test that scrapes the server
-  python3 procps prometheus
+  # scripts
+  python3 procps
 )
 
 missing=()
