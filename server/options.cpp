@@ -125,6 +125,8 @@ int parse_host_options(int argc, char** argv, HostOptions& o) {
     o.net_cfg.max_pending_per_address = 4;
     add_race_options(app, o);
     add_file_options(app, o);
+    HostingFlags hosting;
+    add_hosting_options(app, hosting);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -137,6 +139,7 @@ int parse_host_options(int argc, char** argv, HostOptions& o) {
     // longer.
     o.cfg.hello_timeout_s = o.hello_timeout_s * o.time_scale;
     jetrace::cli::log_to_stderr("server", o.log_level);
+    if (!apply_hosting(hosting, o.hosting)) return 2;
     return -1;
 }
 

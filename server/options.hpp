@@ -1,6 +1,7 @@
 // jetrace-server's command line and the checks it does before listening.
 #pragma once
 
+#include "hosting.hpp"
 #include "jetrace/net/transport.hpp"
 #include "jetrace/server/race_server.hpp"
 
@@ -24,6 +25,8 @@ struct HostOptions {
     std::string results_path;
     /// --nonce-file ("" = spent nonces live in memory only).
     std::string nonce_file;
+    /// --metrics and Agones.
+    Hosting hosting;
 };
 
 /// Parses the command line. -1: go on; else the exit code (0 for --help).

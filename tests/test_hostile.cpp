@@ -236,6 +236,12 @@ TEST(Hostile, JunkOutOfOrderImpostorAndTooManyPlayersChangeNothing) {
     ASSERT_EQ(extra.size(), 3u);
     for (RawClient* e : extra) EXPECT_EQ(e->refuse, "server full (5 players)");
     EXPECT_TRUE(log.has_line("refusing client", "(extra): server full"));
+    // The metrics' counters saw the same.
+    const jetrace::server::RaceCounters counted = race.server().counters();
+    EXPECT_EQ(counted.refused[static_cast<std::size_t>(jetrace::server::Refusal::full)], 3u);
+    EXPECT_GE(counted.dropped[static_cast<std::size_t>(jetrace::server::DropReason::malformed)], 5u);
+    EXPECT_EQ(counted.races_started, 1u);
+    EXPECT_EQ(counted.races_finished, 1u);
 }
 
 // Sends every InputBatch of the bot it wraps several times over: the same
@@ -348,6 +354,12 @@ TEST(Hostile, InputsFarInTheFutureOrPastMoveNothing) {
     EXPECT_EQ(car.lap, at_go.lap);
     EXPECT_TRUE(log.has_line("(timetraveller): input for tick", "ticks ahead of tick", "dropped"));
     EXPECT_EQ(race.replay_hash(), race.ends.front().state_hash);
+    // Every input of the two batches ahead of the lead limit is counted
+    // dropped; those far in the past are older than the input ring, so not
+    // late; the time traveller's car went without inputs.
+    const jetrace::server::RaceCounters counted = race.server().counters();
+    EXPECT_GE(counted.inputs_dropped, 64u * sent / 2);
+    EXPECT_GT(counted.inputs_missing, 1000u);
 }
 
 TEST(Faults, ClientThatVanishesMidRaceIsTimedOutAndTheRaceGoesOn) {

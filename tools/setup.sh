@@ -22,6 +22,9 @@ PACKAGES=(
   libenet-dev libeigen3-dev libflatbuffers-dev flatbuffers-compiler
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libspdlog-dev nlohmann-json3-dev
   libtinyobjloader-dev libtinygltf-dev libbullet-dev libsodium-dev
+  # hosting (server/ops): HTTP (Agones SDK, metrics endpoint), Prometheus text format;
+  # prometheus itself for the ops test that scrapes the server
+  libcpp-httplib-dev prometheus-cpp-dev prometheus
   # charts, fuzzing runtime
   gnuplot-nox libclang-rt-14-dev
   # cross-platform determinism (tools/cross.sh): aarch64 under qemu, WebAssembly under node;

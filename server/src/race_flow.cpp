@@ -28,6 +28,7 @@ void RaceServer::tick() {
 
 void RaceServer::start_race() {
     ++race_number_;
+    ++counters_.races_started;
     const auto countdown = static_cast<std::uint32_t>(config_.countdown_s * scene_.physics.tick_rate_hz + 0.5);
     world_ = make_world(config_.max_players, config_.laps, countdown);
     scratch_ = StepScratch{};
@@ -67,6 +68,7 @@ void RaceServer::start_race() {
         h.initial = world_;
         replay_failure_logged_ = false;
         const std::string path = expand_path(config_.record_path, race_number_, race_start_unix_s_);
+        replay_bytes_before_ += replay_.bytes_written();  // the previous race's replay
         if (!replay_.open(path, h, config_.replay_sign_key)) check_replay_write();
     }
     broadcast_status();
@@ -85,6 +87,8 @@ void RaceServer::step_race() {
         if (c.input_ticks[t % kInputRing] == t) {
             c.last_input = c.inputs[t % kInputRing];
             c.last_applied_tick = t;
+        } else {
+            ++counters_.inputs_missing;
         }
         applied_[s] = c.last_input;
     }
@@ -211,6 +215,9 @@ void RaceServer::finish_replay(replay::EndReason reason, std::uint64_t hash) {
 }
 
 void RaceServer::end_race(replay::EndReason reason) {
+    using replay::EndReason;
+    const bool by_rules = reason != EndReason::aborted && reason != EndReason::abandoned && reason != EndReason::drained;
+    ++(by_rules ? counters_.races_finished : counters_.races_aborted);
     RaceEnd end;
     end.race_number = race_number_;
     end.ticks = world_.tick;

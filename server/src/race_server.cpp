@@ -39,9 +39,10 @@ void RaceServer::send(net::PeerId peer, net::Channel ch, const proto::Message& m
     transport_.send(peer, ch, bytes);
 }
 
-void RaceServer::drop(net::PeerId peer, const std::string& reason) {
+void RaceServer::drop(net::PeerId peer, DropReason why, const std::string& reason) {
     auto it = clients_.find(peer);
     if (it == clients_.end()) return;
+    ++counters_.dropped[static_cast<std::size_t>(why)];
     spdlog::warn("dropping client {} ({}): {}", peer, it->second.name.empty() ? "no name" : it->second.name, reason);
     std::string text = reason;
     if (text.size() > proto::kMaxReasonBytes) {
@@ -57,7 +58,8 @@ void RaceServer::drop(net::PeerId peer, const std::string& reason) {
     release(std::move(gone), false, "reconnect token no longer valid: the server dropped the player");
 }
 
-void RaceServer::refuse(Client& c, const std::string& name, const std::string& reason) {
+void RaceServer::refuse(Client& c, const std::string& name, Refusal why, const std::string& reason) {
+    ++counters_.refused[static_cast<std::size_t>(why)];
     spdlog::warn("refusing client {} ({}): {}", c.peer, name, reason);
     send(c.peer, net::Channel::reliable, proto::Refuse{reason});
     transport_.disconnect(c.peer);
@@ -92,7 +94,7 @@ void RaceServer::on_event(const net::Event& e) {
             proto::Message m;
             std::string error;
             if (!proto::decode(e.data, m, error)) {
-                drop(e.peer, "malformed message: " + error);
+                drop(e.peer, DropReason::malformed, "malformed message: " + error);
                 break;
             }
             on_message(it->second, m);
@@ -106,7 +108,7 @@ void RaceServer::on_message(Client& c, const proto::Message& m) {
         on_hello(c, *hello);
     } else if (const auto* inputs = std::get_if<proto::InputBatch>(&m)) {
         if (!c.greeted) {
-            drop(c.peer, "protocol violation: inputs before hello");
+            drop(c.peer, DropReason::protocol, "protocol violation: inputs before hello");
             return;
         }
         on_inputs(c, *inputs);
@@ -120,17 +122,17 @@ void RaceServer::on_message(Client& c, const proto::Message& m) {
         clients_.erase(it);  // `c` is gone too
         release(std::move(gone), false, "reconnect token no longer valid: the player said goodbye");
     } else {
-        drop(c.peer, "protocol violation: clients may not send this message");
+        drop(c.peer, DropReason::protocol, "protocol violation: clients may not send this message");
     }
 }
 
 void RaceServer::on_hello(Client& c, const proto::Hello& h) {
     if (c.greeted) {
-        drop(c.peer, "protocol violation: second hello");
+        drop(c.peer, DropReason::protocol, "protocol violation: second hello");
         return;
     }
     if (h.protocol_version != proto::kProtocolVersion) {
-        refuse(c, h.name, "protocol version " + std::to_string(h.protocol_version) + " not supported (server speaks " +
+        refuse(c, h.name, Refusal::version, "protocol version " + std::to_string(h.protocol_version) + " not supported (server speaks " +
                       std::to_string(proto::kProtocolVersion) + ")");
         return;
     }
@@ -139,26 +141,26 @@ void RaceServer::on_hello(Client& c, const proto::Hello& h) {
         return;
     }
     if (draining_) {
-        refuse(c, h.name, "server draining: it finishes the race under way and accepts no new players");
+        refuse(c, h.name, Refusal::draining, "server draining: it finishes the race under way and accepts no new players");
         return;
     }
     std::optional<auth::ConnectToken> ticket;
     if (verifier_) {
         if (unix_time_s_ < 0) {
             spdlog::error("private race: the caller never set the wall clock, so no connect token can be checked");
-            refuse(c, h.name, "server clock not set: cannot check connect tokens");
+            refuse(c, h.name, Refusal::clock, "server clock not set: cannot check connect tokens");
             return;
         }
         auth::Verdict v = verifier_->check(h.connect_token, h.name, unix_time_s_);
         if (!v.ok()) {
-            refuse(c, h.name, v.refusal);
+            refuse(c, h.name, Refusal::token, v.refusal);
             return;
         }
         ticket = std::move(v.token);
     }
     const int slot = free_slot();
     if (slot < 0) {
-        refuse(c, h.name, "server full (" + std::to_string(config_.max_players) + " players)");
+        refuse(c, h.name, Refusal::full, "server full (" + std::to_string(config_.max_players) + " players)");
         return;
     }
     if (ticket) {
@@ -219,11 +221,17 @@ void RaceServer::on_inputs(Client& c, const proto::InputBatch& b) {
     }
     for (std::size_t i = 0; i < b.inputs.size(); ++i) {
         const std::uint64_t t = std::uint64_t{b.first_tick} + i;
-        if (t < now_tick) continue;  // too late: that tick is simulated
+        if (t < now_tick) {
+            // Too late: that tick is simulated. A redundant copy of an input
+            // that came in time is not late.
+            if (now_tick - t < kInputRing && c.input_ticks[t % kInputRing] != t) ++counters_.inputs_late;
+            continue;
+        }
         if (t > now_tick + static_cast<std::uint64_t>(config_.max_input_lead_ticks)) {
             note(c, kInputTooFarAhead,
                  fmt::format("input for tick {} is more than {} ticks ahead of tick {}; dropped", t,
                              config_.max_input_lead_ticks, now_tick));
+            counters_.inputs_dropped += b.inputs.size() - i;
             break;
         }
         const auto tick = static_cast<std::uint32_t>(t);
@@ -288,7 +296,7 @@ int RaceServer::update(std::uint64_t now_us) {
         }
     }
     for (net::PeerId p : silent) {
-        drop(p, std::string(proto::kNoHelloReason) + " " + std::to_string(config_.hello_timeout_s) + " s");
+        drop(p, DropReason::no_hello, std::string(proto::kNoHelloReason) + " " + std::to_string(config_.hello_timeout_s) + " s");
     }
     expire_held();
     check_drain();

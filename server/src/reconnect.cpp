@@ -79,13 +79,13 @@ void RaceServer::on_reconnect(Client& c, const proto::Hello& h) {
         const auto spent = std::find_if(retired_.begin(), retired_.end(), [&](const auto& r) {
             return std::equal(r.first.begin(), r.first.end(), h.reconnect_token.begin(), h.reconnect_token.end());
         });
-        refuse(c, h.name, spent != retired_.end() ? spent->second : "unknown reconnect token");
+        refuse(c, h.name, Refusal::reconnect, spent != retired_.end() ? spent->second : "unknown reconnect token");
         return;
     }
     // The token is the credential, the name a cross-check: a mismatch is
     // refused and leaves the token valid for its owner.
     if (owner->hello_name != h.name) {
-        refuse(c, h.name, "reconnect token belongs to another player name");
+        refuse(c, h.name, Refusal::reconnect, "reconnect token belongs to another player name");
         return;
     }
     Client back = std::move(*owner);

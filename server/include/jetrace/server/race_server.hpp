@@ -13,6 +13,7 @@
 #include "jetrace/proto/world_codec.hpp"
 #include "jetrace/replay/format.hpp"
 #include "jetrace/replay/writer.hpp"
+#include "jetrace/server/counters.hpp"
 #include "jetrace/world.hpp"
 
 #include <array>
@@ -150,6 +151,12 @@ public:
     int players() const;
     /// Slots held for players who dropped, waiting for their reconnect.
     int held_slots() const { return static_cast<int>(held_.size()); }
+    /// The race under way or last run (0 before the first).
+    std::uint32_t race_number() const { return race_number_; }
+    /// What the server counted so far (server/src/observe.cpp).
+    RaceCounters counters() const;
+    /// Every player, connected or held, by slot.
+    std::vector<PlayerStatus> player_status() const;
 
     /// Called at the end of every race that started (the caller writes the
     /// results file: the library does no file I/O for results).
@@ -196,8 +203,8 @@ private:
     void on_message(Client& c, const proto::Message& m);
     void on_hello(Client& c, const proto::Hello& h);
     void on_inputs(Client& c, const proto::InputBatch& b);
-    void drop(net::PeerId peer, const std::string& reason);
-    void refuse(Client& c, const std::string& name, const std::string& reason);
+    void drop(net::PeerId peer, DropReason why, const std::string& reason);
+    void refuse(Client& c, const std::string& name, Refusal why, const std::string& reason);
     void send_welcome(Client& c);
 
     // Reconnects (server/src/reconnect.cpp).
@@ -261,6 +268,9 @@ private:
     std::array<std::pair<std::uint32_t, proto::WorldSnapshot>, kHistory> history_{};
     replay::Writer replay_;
     std::uint32_t replay_failures_ = 0;
+    /// Replay bytes of the races before the one replay_ holds.
+    std::uint64_t replay_bytes_before_ = 0;
+    RaceCounters counters_;
     bool replay_failure_logged_ = false;
     std::uint64_t ticks_ = 0;
     int max_players_seen_ = 0;

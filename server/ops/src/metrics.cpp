@@ -1,0 +1,216 @@
+// Metrics: prometheus-cpp families filled from published samples, and the
+// cpp-httplib server of /metrics, /healthz and /status.
+#include "jetrace/ops/metrics.hpp"
+
+#include "jetrace/server/race_server.hpp"
+
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+#include <prometheus/counter.h>
+#include <prometheus/gauge.h>
+#include <prometheus/histogram.h>
+#include <prometheus/registry.h>
+#include <prometheus/text_serializer.h>
+
+#include <charconv>
+#include <mutex>
+#include <thread>
+
+namespace jetrace::ops {
+
+namespace {
+
+using prometheus::Counter;
+using prometheus::Gauge;
+
+void advance(Counter& c, std::uint64_t total) {
+    const double d = static_cast<double>(total) - c.Value();
+    if (d > 0) c.Increment(d);
+}
+
+Counter& counter(prometheus::Registry& r, const std::string& name, const std::string& help,
+                 const prometheus::Labels& labels = {}) {
+    return prometheus::BuildCounter().Name(name).Help(help).Register(r).Add(labels);
+}
+
+Gauge& gauge(prometheus::Registry& r, const std::string& name, const std::string& help) {
+    return prometheus::BuildGauge().Name(name).Help(help).Register(r).Add({});
+}
+
+}  // namespace
+
+struct Metrics::Impl {
+    prometheus::Registry registry;
+    prometheus::Histogram& tick_seconds = prometheus::BuildHistogram()
+                                              .Name("jetrace_tick_duration_seconds")
+                                              .Help("Time one simulation tick took, network handling included")
+                                              .Register(registry)
+                                              .Add({}, prometheus::Histogram::BucketBoundaries{
+                                                           0.00005, 0.0001, 0.00025, 0.0005, 0.001, 0.002, 0.004,
+                                                           0.00833, 0.016, 0.05});
+    Gauge& players = gauge(registry, "jetrace_players", "Connected players (those spectating included)");
+    Gauge& observers = gauge(registry, "jetrace_observers",
+                             "Connected players without a car in the race under way (joined during it)");
+    Gauge& held = gauge(registry, "jetrace_players_held", "Slots held for dropped players who may reconnect");
+    Counter& started = counter(registry, "jetrace_races_started_total", "Races whose countdown began");
+    Counter& finished = counter(registry, "jetrace_races_finished_total",
+                                "Races ended by the rules (all finished, finish window, time limit)");
+    Counter& aborted = counter(registry, "jetrace_races_aborted_total",
+                               "Races stopped by a shutdown or left by every player");
+    Counter& bytes_in = counter(registry, "jetrace_network_bytes_received_total", "UDP bytes received");
+    Counter& bytes_out = counter(registry, "jetrace_network_bytes_sent_total", "UDP bytes sent");
+    Counter& packets_in = counter(registry, "jetrace_network_packets_received_total", "UDP datagrams received");
+    Counter& packets_out = counter(registry, "jetrace_network_packets_sent_total", "UDP datagrams sent");
+    Counter& late = counter(registry, "jetrace_inputs_late_total",
+                            "Inputs that arrived after their tick was stepped without them");
+    Counter& dropped = counter(registry, "jetrace_inputs_dropped_total",
+                               "Inputs dropped for being too far ahead of the server tick");
+    Counter& missing = counter(registry, "jetrace_inputs_missing_total",
+                               "Car-ticks stepped with the previous input because the tick's had not arrived");
+    Counter& replay_bytes = counter(registry, "jetrace_replay_bytes_written_total", "Replay bytes written");
+    Counter& write_errors = counter(registry, "jetrace_write_errors_total", "Files that could not be written whole",
+                                    {{"file", "replay"}});
+    prometheus::Family<Counter>& refused_family = prometheus::BuildCounter()
+                                                      .Name("jetrace_connections_refused_total")
+                                                      .Help("Hellos refused, by reason")
+                                                      .Register(registry);
+    prometheus::Family<Counter>& dropped_family = prometheus::BuildCounter()
+                                                      .Name("jetrace_connections_dropped_total")
+                                                      .Help("Connections the server dropped, by reason")
+                                                      .Register(registry);
+    std::vector<Counter*> refused, drops;
+    Counter& refused_unallocated = refused_family.Add({{"reason", "unallocated"}});
+
+    mutable std::mutex mutex;  // guards the metrics' coherence and status
+    std::string status = "{}";
+    httplib::Server http;
+    std::thread thread;
+
+    Impl() {
+        for (const auto name : server::kRefusalNames) refused.push_back(&refused_family.Add({{"reason", std::string(name)}}));
+        for (const auto name : server::kDropReasonNames) drops.push_back(&dropped_family.Add({{"reason", std::string(name)}}));
+    }
+};
+
+Metrics::Metrics() : impl_(std::make_unique<Impl>()) {}
+
+Metrics::~Metrics() {
+    if (impl_->thread.joinable()) {
+        impl_->http.stop();
+        impl_->thread.join();
+    }
+}
+
+std::unique_ptr<Metrics> Metrics::serve(const std::string& host, int port, std::string& error) {
+    auto m = std::make_unique<Metrics>();
+    Metrics* self = m.get();
+    httplib::Server& http = m->impl_->http;
+    http.new_task_queue = [] { return new httplib::ThreadPool(4); };
+    http.set_payload_max_length(4096);
+    http.Get("/metrics", [self](const httplib::Request&, httplib::Response& res) {
+        res.set_content(self->metrics_text(), "text/plain; version=0.0.4; charset=utf-8");
+    });
+    http.Get("/healthz", [](const httplib::Request&, httplib::Response& res) { res.set_content("ok\n", "text/plain"); });
+    http.Get("/status", [self](const httplib::Request&, httplib::Response& res) {
+        res.set_content(self->status_json(), "application/json");
+    });
+    const int bound = port == 0 ? http.bind_to_any_port(host) : (http.bind_to_port(host, port) ? port : -1);
+    if (bound < 0) {
+        error = "--metrics: cannot listen on " + host + ":" + std::to_string(port);
+        return nullptr;
+    }
+    m->port_ = bound;
+    m->impl_->thread = std::thread([&http] { http.listen_after_bind(); });
+    return m;
+}
+
+void Metrics::observe_ticks(double seconds_each, int ticks) {
+    for (int i = 0; i < ticks; ++i) impl_->tick_seconds.Observe(seconds_each);
+}
+
+void Metrics::publish(const MetricsSample& s) {
+    nlohmann::json j;
+    j["phase"] = s.phase;
+    j["race"] = s.race_number;
+    j["tick"] = s.race_tick;
+    j["server_ticks"] = s.server_ticks;
+    j["races_finished"] = s.counters.races_finished;
+    j["players"] = nlohmann::json::array();
+    int connected = 0, spectating = 0, held = 0;
+    for (const auto& p : s.players) {
+        j["players"].push_back({{"slot", p.slot},
+                                {"name", p.name},
+                                {"connected", p.connected},
+                                {"spectating", p.spectating},
+                                {"lap", p.lap},
+                                {"finished", p.finished}});
+        connected += p.connected ? 1 : 0;
+        spectating += p.connected && p.spectating ? 1 : 0;
+        held += p.connected ? 0 : 1;
+    }
+    // Names are validated UTF-8; replace anything else rather than throw.
+    std::string status = j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    Impl& m = *impl_;
+    std::lock_guard lock(m.mutex);
+    m.status = std::move(status);
+    m.players.Set(connected);
+    m.observers.Set(spectating);
+    m.held.Set(held);
+    advance(m.started, s.counters.races_started);
+    advance(m.finished, s.counters.races_finished);
+    advance(m.aborted, s.counters.races_aborted);
+    advance(m.bytes_in, s.traffic.bytes_received);
+    advance(m.bytes_out, s.traffic.bytes_sent);
+    advance(m.packets_in, s.traffic.packets_received);
+    advance(m.packets_out, s.traffic.packets_sent);
+    advance(m.late, s.counters.inputs_late);
+    advance(m.dropped, s.counters.inputs_dropped);
+    advance(m.missing, s.counters.inputs_missing);
+    advance(m.replay_bytes, s.counters.replay_bytes_written);
+    advance(m.write_errors, s.replay_failures);
+    advance(m.refused_unallocated, s.refused_unallocated);
+    for (std::size_t i = 0; i < m.refused.size(); ++i) advance(*m.refused[i], s.counters.refused[i]);
+    for (std::size_t i = 0; i < m.drops.size(); ++i) advance(*m.drops[i], s.counters.dropped[i]);
+}
+
+std::string Metrics::metrics_text() const {
+    std::lock_guard lock(impl_->mutex);
+    return prometheus::TextSerializer().Serialize(impl_->registry.Collect());
+}
+
+std::string Metrics::status_json() const {
+    std::lock_guard lock(impl_->mutex);
+    return impl_->status;
+}
+
+MetricsSample sample_of(const server::RaceServer& server, const net::Transport& transport) {
+    MetricsSample s;
+    s.phase = proto::to_string(server.phase());
+    s.race_number = server.race_number();
+    s.race_tick = server.world().tick;
+    s.server_ticks = server.ticks();
+    s.players = server.player_status();
+    s.counters = server.counters();
+    s.replay_failures = server.replay_failures();
+    s.traffic = transport.totals();
+    return s;
+}
+
+bool parse_host_port(const std::string& spec, std::string& host, int& port, std::string& error) {
+    std::string port_text = spec;
+    host = "127.0.0.1";
+    if (const auto colon = spec.rfind(':'); colon != std::string::npos) {
+        host = spec.substr(0, colon);
+        port_text = spec.substr(colon + 1);
+        if (host.size() >= 2 && host.front() == '[' && host.back() == ']') host = host.substr(1, host.size() - 2);
+    }
+    const auto [end, ec] = std::from_chars(port_text.data(), port_text.data() + port_text.size(), port);
+    if (host.empty() || port_text.empty() || ec != std::errc{} || end != port_text.data() + port_text.size() ||
+        port < 0 || port > 65535) {
+        error = "'" + spec + "' is not PORT or ADDR:PORT with PORT in [0, 65535]";
+        return false;
+    }
+    return true;
+}
+
+}  // namespace jetrace::ops

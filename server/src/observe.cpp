@@ -1,0 +1,37 @@
+// RaceServer: read-only views for metrics and status (counters, players).
+#include "jetrace/server/race_server.hpp"
+
+#include <algorithm>
+
+namespace jetrace::server {
+
+RaceCounters RaceServer::counters() const {
+    RaceCounters c = counters_;
+    c.replay_bytes_written = replay_bytes_before_ + replay_.bytes_written();
+    return c;
+}
+
+std::vector<PlayerStatus> RaceServer::player_status() const {
+    std::vector<PlayerStatus> out;
+    const auto with_car = [&](const Client& c, bool connected) {
+        PlayerStatus p;
+        p.slot = c.slot;
+        p.name = c.name;
+        p.connected = connected;
+        p.spectating = c.spectating;
+        const auto s = static_cast<std::size_t>(c.slot);
+        if (s < world_.cars.size() && world_.cars[s].active) {
+            p.lap = world_.cars[s].lap;
+            p.finished = world_.cars[s].finished;
+        }
+        out.push_back(std::move(p));
+    };
+    for (const auto& [peer, c] : clients_) {
+        if (c.greeted && c.slot >= 0) with_car(c, true);
+    }
+    for (const auto& [slot, h] : held_) with_car(h.client, false);
+    std::sort(out.begin(), out.end(), [](const PlayerStatus& a, const PlayerStatus& b) { return a.slot < b.slot; });
+    return out;
+}
+
+}  // namespace jetrace::server
