@@ -12,7 +12,8 @@ set -euo pipefail
 SERVER_PACKAGES=(
   g++ make cmake ninja-build pkg-config
   libenet-dev libeigen3-dev libflatbuffers-dev flatbuffers-compiler
-  libcli11-dev libspdlog-dev nlohmann-json3-dev libtinyobjloader-dev libsodium-dev
+  libcli11-dev libspdlog-dev nlohmann-json3-dev libtinyobjloader-dev libtinygltf-dev libsodium-dev
+  libcpp-httplib-dev prometheus-cpp-dev
 )
 
 PACKAGES=(
