@@ -71,11 +71,11 @@ bool assemble(const TrackManifest& m, const std::vector<ImportedMesh>& meshes, A
             }
         }
     }
+    report.degenerate_dropped = a.degenerate;  // also when nothing else is left
     if (a.corners.empty()) return fail(error, "no drivable triangles: 'drivable'/'ignore' leave none of the parts (" + names + ")");
     for (const Vec3& p : a.corners) {
         if (!(p.cwiseAbs().maxCoeff() <= kMaxTrackCoordinate_m)) return fail(error, "a vertex lies beyond 1e6 m after 'scale'");
     }
-    report.degenerate_dropped = a.degenerate;
     if (a.degenerate > 0) {
         report.warnings.push_back(std::to_string(a.degenerate) + " degenerate (zero-area) triangles dropped (the first in " +
                                   a.first_degenerate + ")");
