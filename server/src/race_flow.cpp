@@ -54,18 +54,13 @@ void RaceServer::start_race() {
     spdlog::info("race {} on '{}': {} players, {} laps, start in {:.1f} s", race_number_, scene_.track.name, players(),
                  config_.laps, config_.countdown_s);
     if (!config_.record_path.empty()) {
-        replay::Header h;
-        h.track_name = scene_.track.name;
-        h.track_identity = scene_.track.identity();
-        h.physics_hash = proto::physics_hash(scene_.physics);
-        h.tick_rate_hz = static_cast<std::uint16_t>(scene_.physics.tick_rate_hz);
+        replay::Header h = replay::header_for(scene_, world_);
         h.race_number = race_number_;
         h.start_unix_s = race_start_unix_s_;
         h.names.assign(world_.cars.size(), std::string());
         for (const auto& [peer, c] : clients_) {
             if (c.greeted && c.slot >= 0) h.names[static_cast<std::size_t>(c.slot)] = c.name;
         }
-        h.initial = world_;
         replay_failure_logged_ = false;
         const std::string path = expand_path(config_.record_path, race_number_, race_start_unix_s_);
         replay_bytes_before_ += replay_.bytes_written();  // the previous race's replay
