@@ -7,6 +7,7 @@
 #include "jetrace/ops/unallocated_gate.hpp"
 #include "jetrace/server/host_files.hpp"
 #include "jetrace/server/race_server.hpp"
+#include "jetrace/server/replay_recorder.hpp"
 #include "jetrace/server/tick_times.hpp"
 #include "jetrace/track_io.hpp"
 
@@ -49,10 +50,13 @@ struct Host {
     std::unique_ptr<net::Transport> transport;
     std::unique_ptr<ops::Metrics> metrics;
     std::unique_ptr<ops::AgonesClient> agones;
+    /// --record: the replay of each race.
+    std::unique_ptr<server::ReplayRecorder> recorder;
     Clock::time_point start = Clock::now();
     double time_scale = 1.0;
     std::uint64_t refused_unallocated = 0;
 
+    std::uint32_t replay_failures() const { return recorder ? recorder->failures() : 0; }
     /// The server's clock: wall time scaled by --time-scale (unit: µs).
     std::uint64_t now_us() const {
         return static_cast<std::uint64_t>(std::chrono::duration<double, std::micro>(Clock::now() - start).count() *
@@ -62,6 +66,8 @@ struct Host {
         if (!metrics) return;
         auto sample = ops::sample_of(srv, *transport);
         sample.refused_unallocated = refused_unallocated;
+        sample.replay_failures = replay_failures();
+        sample.replay_bytes_written = recorder ? recorder->bytes_written() : 0;
         metrics->publish(sample);
     }
 };
@@ -234,7 +240,7 @@ void print_figures(const server::RaceServer& srv, const Host& host, const server
     j["bytes_sent_per_s"] = static_cast<double>(totals.bytes_sent) / wall_s;
     j["bytes_received_per_s"] = static_cast<double>(totals.bytes_received) / wall_s;
     j["wall_s"] = wall_s;
-    j["replay_failures"] = srv.replay_failures();
+    j["replay_failures"] = host.replay_failures();
     j["results_failures"] = lost.results;
     j["nonce_failures"] = lost.nonces;
     std::printf("%s\n", j.dump().c_str());
@@ -259,6 +265,10 @@ int main(int argc, char** argv) {
         }
     }
     server::RaceServer srv(o.cfg, *scene, *host.transport);
+    if (!o.recorder.path_template.empty()) {
+        host.recorder = std::make_unique<server::ReplayRecorder>(o.recorder);
+        srv.observer = host.recorder.get();
+    }
     Losses lost;
     attach_files(srv, o, scene->track.name, lost);
     server::TickTimes tick_ms;
@@ -268,5 +278,5 @@ int main(int argc, char** argv) {
     print_figures(srv, host, tick_ms, lost);
     if (rc != 0) return rc;
     // A replay, results or nonce table that could not be written is lost data.
-    return srv.replay_failures() + lost.results + lost.nonces == 0 ? 0 : 1;
+    return host.replay_failures() + lost.results + lost.nonces == 0 ? 0 : 1;
 }

@@ -67,7 +67,7 @@ void add_file_options(CLI::App& app, HostOptions& o) {
                    "private race: keep spent connect-token nonces in this file across restarts");
     app.add_option("--results", o.results_path,
                    "results JSON of each race, written atomically (%n: race number, %t: UTC start time)");
-    app.add_option("--record", o.cfg.record_path, "replay file of each race (%n, %t as for --results)");
+    app.add_option("--record", o.recorder.path_template, "replay file of each race (%n, %t as for --results)");
     app.add_option("--sign-key", o.sign_key_file,
                    "sign each replay with this secret key (jetrace-token keygen's FILE; keep it apart from --key-file's)");
     jetrace::cli::add_log_level_option(app, o.log_level);
@@ -84,10 +84,10 @@ bool load_keys(HostOptions& o) {
     std::string error;
     if (!o.sign_key_file.empty()) {
         auth::LoadedKey key;
-        if (o.cfg.record_path.empty()) return fail("--sign-key needs --record");
+        if (o.recorder.path_template.empty()) return fail("--sign-key needs --record");
         if (!auth::load_key_file(o.sign_key_file, key, error)) return fail(error);
         if (!key.has_secret) return fail("--sign-key needs a secret key file (jetrace-token keygen's FILE, not FILE.pub)");
-        o.cfg.replay_sign_key = key.secret;
+        o.recorder.sign_key = key.secret;
     }
     if (o.key_file.empty()) {
         if (!o.cfg.race_id.empty()) return fail("--race-id needs --key-file");
@@ -149,7 +149,7 @@ bool prepare_host(HostOptions& o) {
     const auto now = std::chrono::duration_cast<std::chrono::seconds>(
                          std::chrono::system_clock::now().time_since_epoch()).count();
     std::string error;
-    for (const std::string* p : {&o.results_path, &o.cfg.record_path, &o.nonce_file}) {
+    for (const std::string* p : {&o.results_path, &o.recorder.path_template, &o.nonce_file}) {
         if (p->empty()) continue;
         if (!check_can_create(expand_path(*p, 1, now), error)) return fail(error);
     }

@@ -4,6 +4,7 @@
 #include "hosting.hpp"
 #include "jetrace/net/transport.hpp"
 #include "jetrace/server/race_server.hpp"
+#include "jetrace/server/replay_recorder.hpp"
 
 #include <string>
 
@@ -23,6 +24,8 @@ struct HostOptions {
     std::string sign_key_file;
     /// --results (%n and %t expand per race; "" = none).
     std::string results_path;
+    /// --record and --sign-key (path_template "" = no replays).
+    RecorderConfig recorder;
     /// --nonce-file ("" = spent nonces live in memory only).
     std::string nonce_file;
     /// --metrics and Agones.

@@ -154,16 +154,13 @@ TEST(ClientJoin, AnUnknownTrackOrOtherPhysicsLeaves) {
 TEST(ClientJoin, AdoptsTheServersPhysicsSettingsFromTheSameCore) {
     PhysicsSettings fast;
     fast.tick_rate_hz = 240;
-    PhysicsSettings bad = fast;
-    bad.slide_mps2 = bad.grip_mps2 + 1;  // validate() refuses: slide must be below grip
     struct Case {
         PhysicsSettings physics;
         std::uint64_t hash;
         const char* reason;  // nullptr: adopted
     };
     for (const Case& k : {Case{fast, proto::physics_hash(fast), nullptr},
-                          Case{fast, proto::physics_hash(fast) ^ 1, "physics settings differ from the server's (not the same physics core)"},
-                          Case{bad, proto::physics_hash(bad), "the server's physics settings are not usable here"}}) {
+                          Case{fast, proto::physics_hash(fast) ^ 1, "physics settings differ from the server's (not the same physics core)"}}) {
         ScriptedTransport t;
         client::RaceClient c(client::ClientConfig{}, client::KnownScenes{&tracks().ring}, t);
         t.connect();
@@ -182,6 +179,27 @@ TEST(ClientJoin, AdoptsTheServersPhysicsSettingsFromTheSameCore) {
             EXPECT_EQ(c.close_reason().rfind(k.reason, 0), 0u) << c.close_reason();
         }
     }
+}
+
+// Settings the core refuses do not even decode (proto::decode runs
+// validate()): the client ignores that Welcome as malformed and waits on.
+TEST(ClientJoin, IgnoresAWelcomeWithUnusablePhysicsSettings) {
+    PhysicsSettings bad;
+    bad.slide_mps2 = bad.grip_mps2 + 1;  // validate() refuses: slide must be below grip
+    ScriptedTransport t;
+    client::RaceClient c(client::ClientConfig{}, client::KnownScenes{&tracks().ring}, t);
+    t.connect();
+    proto::Welcome w = welcome_for(tracks().ring, 0);
+    w.tick_rate_hz = static_cast<std::uint16_t>(bad.tick_rate_hz);
+    w.physics = bad;
+    w.physics_hash = proto::physics_hash(bad);
+    proto::Message m;
+    std::string error;
+    EXPECT_FALSE(proto::decode(proto::encode(w), m, error));
+    EXPECT_NE(error.find("Welcome.physics: slide_mps2 must be in [0, grip_mps2]"), std::string::npos) << error;
+    t.deliver(w);
+    c.update(1000, no_input);
+    EXPECT_EQ(c.state(), ClientState::waiting_welcome);
 }
 
 TEST(ClientJoin, AConnectionThatNeverCameUpJoinsAgain) {

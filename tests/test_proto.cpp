@@ -29,7 +29,7 @@ auto tie(const jp::Welcome& m) {
     return std::tie(m.protocol_version, m.slot, m.max_players, m.tick_rate_hz, m.snapshot_rate_hz, m.track_name,
                     m.track_identity, m.physics_hash, m.server_tick, m.reconnect_token);
 }
-auto tie(const jp::Refuse& m) { return std::tie(m.reason); }
+auto tie(const jp::Refuse& m) { return std::tie(m.reason, m.code); }
 auto tie(const jp::InputBatch& m) { return std::tie(m.first_tick, m.inputs, m.ack_snapshot_tick); }
 auto tie(const jp::Snapshot& m) {
     return std::tie(m.server_tick, m.baseline_tick, m.last_applied_input_tick, m.input_margin_ticks, m.phase,
@@ -37,7 +37,7 @@ auto tie(const jp::Snapshot& m) {
 }
 auto tie(const jp::PlayerInfo& m) { return std::tie(m.slot, m.name, m.spectating); }
 auto tie(const jp::StandingEntry& m) { return std::tie(m.slot, m.name, m.finished, m.lap, m.finish_time_s); }
-auto tie(const jp::Goodbye& m) { return std::tie(m.reason); }
+auto tie(const jp::Goodbye& m) { return std::tie(m.reason, m.code); }
 
 template <typename T>
 bool same_list(const std::vector<T>& a, const std::vector<T>& b) {
@@ -96,6 +96,8 @@ std::vector<jp::Message> sample_messages() {
     out.push_back(jp::Welcome{2, 63, 64, 10000, 1, std::string(256, 't'), 0, 0, 0xFFFFFFFFu, {}});
     out.push_back(jp::Refuse{"server full"});
     out.push_back(jp::Refuse{std::string(256, 'r')});
+    out.push_back(jp::Refuse{"server full", static_cast<std::uint16_t>(jp::CloseCode::refused_full)});
+    out.push_back(jp::Refuse{"from a newer server", 2999});
     jp::InputBatch batch{1000, {}, 998};
     for (int i = 0; i < 64; ++i) batch.inputs.push_back(jetrace::Input::clamped(i % 16, i % 31 - 15, i % 2));
     out.push_back(batch);
@@ -122,6 +124,8 @@ std::vector<jp::Message> sample_messages() {
     out.push_back(results);
     out.push_back(jp::Goodbye{"bye"});
     out.push_back(jp::Goodbye{""});
+    out.push_back(jp::Goodbye{"no hello within 5 s", static_cast<std::uint16_t>(jp::CloseCode::no_hello)});
+    out.push_back(jp::Goodbye{"", 0xFFFF});
     return out;
 }
 
@@ -500,4 +504,24 @@ TEST(ProtoMessages, PhaseNames) {
     EXPECT_STREQ(jp::to_string(jp::RacePhase::countdown), "countdown");
     EXPECT_STREQ(jp::to_string(jp::RacePhase::racing), "racing");
     EXPECT_STREQ(jp::to_string(jp::RacePhase::finished), "finished");
+}
+
+// Close codes: every code has its name and falls in its range; a code this
+// build does not know still falls in a range (a newer peer's).
+TEST(CloseCodes, NamesAndRanges) {
+    using jp::CloseClass;
+    using jp::CloseCode;
+    const auto u = [](CloseCode c) { return static_cast<std::uint16_t>(c); };
+    EXPECT_EQ(jp::close_class(u(CloseCode::unspecified)), CloseClass::unspecified);
+    for (CloseCode c : {CloseCode::left, CloseCode::server_shutdown, CloseCode::replaced, CloseCode::lobby_cancelled})
+        EXPECT_EQ(jp::close_class(u(c)), CloseClass::normal) << u(c);
+    for (CloseCode c : {CloseCode::refused_version, CloseCode::refused_token, CloseCode::refused_clock,
+                        CloseCode::refused_full, CloseCode::refused_reconnect, CloseCode::refused_draining})
+        EXPECT_EQ(jp::close_class(u(c)), CloseClass::refused) << u(c);
+    for (CloseCode c : {CloseCode::no_hello, CloseCode::malformed, CloseCode::protocol_violation})
+        EXPECT_EQ(jp::close_class(u(c)), CloseClass::remote_fault) << u(c);
+    EXPECT_EQ(jp::close_code_name(u(CloseCode::refused_full)), "refused_full");
+    EXPECT_EQ(jp::close_code_name(2999), "");
+    EXPECT_EQ(jp::close_class(2999), CloseClass::refused);
+    EXPECT_EQ(jp::close_class(7000), CloseClass::other);
 }

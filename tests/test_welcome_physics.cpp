@@ -26,10 +26,10 @@ jp::Welcome welcome_with(const jetrace::PhysicsSettings& s) {
     return m;
 }
 
-std::vector<std::uint8_t> crafted(std::uint8_t integrator, double gravity) {
+std::vector<std::uint8_t> crafted(std::uint8_t integrator, double gravity, std::uint16_t physics_tick_rate = 120) {
     fb::FlatBufferBuilder b;
     auto name = b.CreateString("ring");
-    auto physics = w::CreatePhysicsSettings(b, 120, gravity, 2.5, 24, 1.8e-4, 30, 1.6, 40, 15, 12, 0.5, 10, 20, 1,
+    auto physics = w::CreatePhysicsSettings(b, physics_tick_rate, gravity, 2.5, 24, 1.8e-4, 30, 1.6, 40, 15, 12, 0.5, 10, 20, 1,
                                             1.0 / 1024, 0.05, 1, 4, integrator, true);
     return finish(b, w::CreateWelcome(b, 3, 0, 4, 120, 60, name, 0, 0, 0, 0, physics), "JWLC");
 }
@@ -77,4 +77,20 @@ TEST(WelcomePhysics, RejectsWhatTheCoreDoesNotHave) {
     EXPECT_NE(error.find("Welcome.physics: a setting is not a finite number"), std::string::npos) << error;
 }
 
-TEST(WelcomePhysics, ProtocolVersionIsThree) { EXPECT_EQ(jp::kProtocolVersion, 3); }
+// Settings of the right types that the core cannot step (found by the
+// message_decode fuzzer: a zero tick rate decoded, then tripped encode's
+// assert) are refused by the core's own validate(), and a physics table
+// whose tick rate differs from the Welcome's is refused.
+TEST(WelcomePhysics, RejectsSettingsTheCoreCannotStep) {
+    jp::Message m;
+    std::string error;
+    EXPECT_FALSE(jp::decode(crafted(2, 9.81, 0), m, error));
+    EXPECT_NE(error.find("Welcome.physics: tick_rate_hz must be in [10, 10000]"), std::string::npos) << error;
+    EXPECT_FALSE(jp::decode(crafted(2, -9.81), m, error));
+    EXPECT_NE(error.find("Welcome.physics: gravity_mps2 must be >= 0"), std::string::npos) << error;
+    EXPECT_FALSE(jp::decode(crafted(2, 9.81, 240), m, error));
+    EXPECT_NE(error.find("Welcome.physics.tick_rate_hz: differs from Welcome.tick_rate_hz"), std::string::npos)
+        << error;
+}
+
+TEST(WelcomePhysics, ProtocolVersionIsFour) { EXPECT_EQ(jp::kProtocolVersion, 4); }

@@ -206,7 +206,7 @@ struct Encoder {
     }
     std::vector<std::uint8_t> operator()(const Refuse& m) const {
         assert_text(m.reason, kMaxReasonBytes);
-        return finish_envelope(b, w::Handshake_Refuse, w::CreateRefuse(b, b.CreateString(m.reason)).Union());
+        return finish_envelope(b, w::Handshake_Refuse, w::CreateRefuse(b, b.CreateString(m.reason), m.code).Union());
     }
     std::vector<std::uint8_t> operator()(const InputBatch& m) const {
         return finish<InputBatch>(b, w::CreateInputBatch(b, b.CreateVector(packed::pack(m))));
@@ -240,7 +240,7 @@ struct Encoder {
     }
     std::vector<std::uint8_t> operator()(const Goodbye& m) const {
         assert_text(m.reason, kMaxReasonBytes);
-        return finish<Goodbye>(b, w::CreateGoodbye(b, b.CreateString(m.reason)));
+        return finish<Goodbye>(b, w::CreateGoodbye(b, b.CreateString(m.reason), m.code));
     }
 };
 
@@ -280,6 +280,8 @@ bool decode_body(const w::Welcome& t, Message& out, Check& c) {
         PhysicsSettings p;
         std::string why;
         if (!decode_physics(*t.physics(), p, why)) return c.fail("Welcome.physics", why.c_str());
+        if (p.tick_rate_hz != m.tick_rate_hz)
+            return c.fail("Welcome.physics.tick_rate_hz", "differs from Welcome.tick_rate_hz");
         m.physics = p;
     }
     out = std::move(m);
@@ -289,6 +291,7 @@ bool decode_body(const w::Welcome& t, Message& out, Check& c) {
 bool decode_body(const w::Refuse& t, Message& out, Check& c) {
     Refuse m;
     if (!c.text(t.reason(), kMaxReasonBytes, "Refuse.reason", m.reason)) return false;
+    m.code = t.code();
     out = std::move(m);
     return true;
 }
@@ -367,6 +370,7 @@ bool decode_body(const w::Results& t, Message& out, Check& c) {
 bool decode_body(const w::Goodbye& t, Message& out, Check& c) {
     Goodbye m;
     if (!c.text(t.reason(), kMaxReasonBytes, "Goodbye.reason", m.reason)) return false;
+    m.code = t.code();
     out = std::move(m);
     return true;
 }

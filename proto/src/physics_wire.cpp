@@ -58,6 +58,12 @@ bool decode_physics(const wire::PhysicsSettings& t, PhysicsSettings& out, std::s
     s.push_out = static_cast<PushOut>(t.push_out());
     s.collision_mode = static_cast<CollisionMode>(t.collision_mode());
     s.integrator = static_cast<Integrator>(t.integrator());
+    // The core's own rules, so whatever decodes is a PhysicsSettings that
+    // step() and encode_physics() accept.
+    if (const std::string bad = validate(s); !bad.empty()) {
+        why = bad;
+        return false;
+    }
     out = s;
     return true;
 }

@@ -5,11 +5,7 @@
 
 namespace jetrace::server {
 
-RaceCounters RaceServer::counters() const {
-    RaceCounters c = counters_;
-    c.replay_bytes_written = replay_bytes_before_ + replay_.bytes_written();
-    return c;
-}
+RaceCounters RaceServer::counters() const { return counters_; }
 
 std::vector<PlayerStatus> RaceServer::player_status() const {
     std::vector<PlayerStatus> out;

@@ -1,6 +1,6 @@
 // RaceServer: the tick, the race phases, snapshots and results.
 #include "jetrace/race.hpp"
-#include "jetrace/server/path_template.hpp"
+#include "jetrace/replay/format.hpp"
 #include "jetrace/server/race_server.hpp"
 
 #include <spdlog/spdlog.h>
@@ -35,15 +35,11 @@ void RaceServer::start_race() {
     applied_.assign(world_.cars.size(), Input{});
     pending_removals_.clear();
     first_finish_tick_ = proto::kNoTick;
-    for (auto& h : history_) h.first = proto::kNoTick;
+    snapshots_.clear();
     race_start_unix_s_ = unix_time_s_ > 0 ? unix_time_s_ : 0;
     racers_at_start_.clear();
     for (auto& [peer, c] : clients_) {
-        c.input_ticks.fill(proto::kNoTick);
-        c.newest_input_tick = proto::kNoTick;
-        c.last_applied_tick = proto::kNoTick;
-        c.last_input = Input{};
-        c.acked_snapshot = proto::kNoTick;
+        c.reset_link_state();
         if (!c.greeted || c.slot < 0) continue;
         c.spectating = false;
         spawn_car(scene_, world_, c.slot, c.slot);
@@ -53,19 +49,7 @@ void RaceServer::start_race() {
     phase_ = proto::RacePhase::countdown;
     spdlog::info("race {} on '{}': {} players, {} laps, start in {:.1f} s", race_number_, scene_.track.name, players(),
                  config_.laps, config_.countdown_s);
-    if (!config_.record_path.empty()) {
-        replay::Header h = replay::header_for(scene_, world_);
-        h.race_number = race_number_;
-        h.start_unix_s = race_start_unix_s_;
-        h.names.assign(world_.cars.size(), std::string());
-        for (const auto& [peer, c] : clients_) {
-            if (c.greeted && c.slot >= 0) h.names[static_cast<std::size_t>(c.slot)] = c.name;
-        }
-        replay_failure_logged_ = false;
-        const std::string path = expand_path(config_.record_path, race_number_, race_start_unix_s_);
-        replay_bytes_before_ += replay_.bytes_written();  // the previous race's replay
-        if (!replay_.open(path, h, config_.replay_sign_key)) check_replay_write();
-    }
+    observe_start();
     broadcast_status();
     send_snapshots();
 }
@@ -77,21 +61,14 @@ void RaceServer::step_race() {
         const net::PeerId peer = slot_peer_[s];
         // A held car (its player dropped) drives on with neutral inputs.
         if (peer == kNoPeer || peer == kHeldPeer || !world_.cars[s].active) continue;
-        Client& c = clients_.at(peer);
-        const std::uint32_t t = world_.tick;
-        if (c.input_ticks[t % kInputRing] == t) {
-            c.last_input = c.inputs[t % kInputRing];
-            c.last_applied_tick = t;
-        } else {
-            ++counters_.inputs_missing;
-        }
-        applied_[s] = c.last_input;
+        bool missing = false;
+        applied_[s] = clients_.at(peer).inputs.pick(world_.tick, missing);
+        if (missing) ++counters_.inputs_missing;
     }
-    replay_.record_tick(world_.tick, pending_removals_, applied_);
+    if (observer) observer->before_step(world_.tick, pending_removals_, applied_);
     pending_removals_.clear();
     step(scene_, world_, applied_, scratch_);
-    replay_.stepped(world_);
-    check_replay_write();
+    if (observer) observer->after_step(world_);
 
     if (phase_ == proto::RacePhase::countdown && world_.tick >= world_.start_tick) {
         phase_ = proto::RacePhase::racing;
@@ -134,43 +111,24 @@ void RaceServer::send_snapshots() {
     for (std::size_t s = 0; s < world_.cars.size(); ++s) {
         const net::PeerId peer = slot_peer_[s];
         if (peer == kNoPeer || peer == kHeldPeer || !world_.cars[s].active) continue;
-        const Client& c = clients_.at(peer);
-        for (std::uint32_t t = world_.tick; now.upcoming[s].size() < proto::kMaxUpcomingInputs; ++t) {
-            if (c.input_ticks[t % kInputRing] != t) break;
-            now.upcoming[s].push_back(c.inputs[t % kInputRing]);
-        }
+        clients_.at(peer).inputs.upcoming(world_.tick, proto::kMaxUpcomingInputs, now.upcoming[s]);
     }
-    auto& slot = history_[world_.tick % kHistory];
-    // Encodings are shared between clients that acknowledged the same baseline.
-    std::map<std::uint32_t, std::vector<std::uint8_t>> by_baseline;
+    snapshots_.begin(std::move(now));
     for (auto& [peer, c] : clients_) {
         if (!c.greeted) continue;
-        const proto::WorldSnapshot* base = nullptr;
-        std::uint32_t base_tick = proto::kNoTick;
-        if (c.acked_snapshot != proto::kNoTick) {
-            const auto& h = history_[c.acked_snapshot % kHistory];
-            if (h.first == c.acked_snapshot) {
-                base = &h.second;
-                base_tick = h.first;
-            }
-        }
-        auto it = by_baseline.find(base_tick);
-        if (it == by_baseline.end()) it = by_baseline.emplace(base_tick, proto::encode_world(now, base)).first;
         proto::Snapshot snap;
         snap.server_tick = world_.tick;
-        snap.baseline_tick = base_tick;
-        snap.last_applied_input_tick = c.last_applied_tick;
-        const std::int64_t margin = c.newest_input_tick == proto::kNoTick
-                                        ? -32768
-                                        : std::int64_t{c.newest_input_tick} - std::int64_t{world_.tick};
+        snap.world = snapshots_.encoded_for(c.acked_snapshot, snap.baseline_tick);
+        snap.last_applied_input_tick = c.inputs.last_applied_tick();
+        const std::uint32_t newest = c.inputs.newest_tick();
+        const std::int64_t margin =
+            newest == proto::kNoTick ? -32768 : std::int64_t{newest} - std::int64_t{world_.tick};
         snap.input_margin_ticks = static_cast<std::int16_t>(std::clamp<std::int64_t>(margin, -32768, 32767));
         snap.phase = phase_;
         snap.race_number = race_number_;
-        snap.world = it->second;
         send(peer, net::Channel::unreliable, snap);
     }
-    slot.first = world_.tick;
-    slot.second = std::move(now);
+    snapshots_.commit();
 }
 
 std::vector<proto::StandingEntry> RaceServer::current_standings() const {
@@ -188,25 +146,28 @@ std::vector<proto::StandingEntry> RaceServer::current_standings() const {
     return out;
 }
 
-void RaceServer::check_replay_write() {
-    if (replay_.error().empty() || replay_failure_logged_) return;
-    replay_failure_logged_ = true;
-    ++replay_failures_;
-    spdlog::error("race {}: {}", race_number_, replay_.error());
+void RaceServer::observe_start() {
+    if (!observer) return;
+    replay::Header h = replay::header_for(scene_, world_);
+    h.race_number = race_number_;
+    h.start_unix_s = race_start_unix_s_;
+    h.names.assign(world_.cars.size(), std::string());
+    for (const auto& [peer, c] : clients_) {
+        if (c.greeted && c.slot >= 0) h.names[static_cast<std::size_t>(c.slot)] = c.name;
+    }
+    observer->race_started(h);
 }
 
-void RaceServer::finish_replay(replay::EndReason reason, std::uint64_t hash) {
-    if (replay_.is_open()) {
-        replay::Trailer t;
-        t.final_tick = world_.tick;
-        t.final_state_hash = hash;
-        t.reason = reason;
-        t.end_unix_s = unix_time_s_ > 0 ? unix_time_s_ : 0;
-        t.removed = pending_removals_;
-        t.results = replay::results_of(scene_, world_);
-        replay_.finish(t);
-    }
-    check_replay_write();
+void RaceServer::observe_end(replay::EndReason reason, std::uint64_t hash) {
+    if (!observer) return;
+    replay::Trailer t;
+    t.final_tick = world_.tick;
+    t.final_state_hash = hash;
+    t.reason = reason;
+    t.end_unix_s = unix_time_s_ > 0 ? unix_time_s_ : 0;
+    t.removed = pending_removals_;
+    t.results = replay::results_of(scene_, world_);
+    observer->race_ended(t);
 }
 
 void RaceServer::end_race(replay::EndReason reason) {
@@ -222,7 +183,7 @@ void RaceServer::end_race(replay::EndReason reason) {
     end.end_unix_s = unix_time_s_ > 0 ? unix_time_s_ : 0;
     end.standings = current_standings();
     end.racers = racers();
-    finish_replay(reason, end.state_hash);
+    observe_end(reason, end.state_hash);
     spdlog::info("race {} over after {} ticks ({})", race_number_, end.ticks, replay::end_reason_name(reason));
     if (on_race_end) on_race_end(end);
     proto::Results r;

@@ -47,7 +47,8 @@ void RaceServer::cancel_lobby(const std::string& reason) {
         if (c.greeted) greeted.push_back(peer);
     }
     for (net::PeerId peer : greeted) {
-        send(peer, net::Channel::reliable, proto::Goodbye{reason});
+        send(peer, net::Channel::reliable,
+             proto::Goodbye{reason, static_cast<std::uint16_t>(proto::CloseCode::lobby_cancelled)});
         transport_.disconnect(peer);
         auto it = clients_.find(peer);
         Client gone = std::move(it->second);
@@ -99,13 +100,14 @@ void RaceServer::shutdown(const std::string& reason) {
     if (phase_ == proto::RacePhase::countdown) {
         // Stopped before its start: not a result (the replay says why).
         spdlog::info("race {} stopped in its countdown: no result", race_number_);
-        finish_replay(replay::EndReason::aborted, state_hash(world_));
+        observe_end(replay::EndReason::aborted, state_hash(world_));
         phase_ = proto::RacePhase::lobby;
     }
     done_ = true;
-    replay_.abandon();
+    if (observer) observer->stopped();
     for (const auto& [peer, c] : clients_) {
-        send(peer, net::Channel::reliable, proto::Goodbye{reason});
+        send(peer, net::Channel::reliable,
+             proto::Goodbye{reason, static_cast<std::uint16_t>(proto::CloseCode::server_shutdown)});
         transport_.disconnect(peer);
     }
     transport_.flush();

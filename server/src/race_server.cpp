@@ -7,13 +7,39 @@
 
 namespace jetrace::server {
 
+namespace {
+
+proto::CloseCode close_code(DropReason why) {
+    switch (why) {
+        case DropReason::no_hello: return proto::CloseCode::no_hello;
+        case DropReason::malformed: return proto::CloseCode::malformed;
+        case DropReason::protocol:
+        case DropReason::count: break;
+    }
+    return proto::CloseCode::protocol_violation;
+}
+
+proto::CloseCode close_code(Refusal why) {
+    switch (why) {
+        case Refusal::version: return proto::CloseCode::refused_version;
+        case Refusal::token: return proto::CloseCode::refused_token;
+        case Refusal::clock: return proto::CloseCode::refused_clock;
+        case Refusal::full: return proto::CloseCode::refused_full;
+        case Refusal::reconnect: return proto::CloseCode::refused_reconnect;
+        case Refusal::draining:
+        case Refusal::count: break;
+    }
+    return proto::CloseCode::refused_draining;
+}
+
+}  // namespace
+
 RaceServer::RaceServer(const ServerConfig& config, const Scene& scene, net::Transport& transport)
     : config_(config),
       scene_(scene),
       transport_(transport),
       tick_us_(1000000u / static_cast<std::uint64_t>(scene.physics.tick_rate_hz)),
       slot_peer_(static_cast<std::size_t>(config.max_players), kNoPeer) {
-    for (auto& h : history_) h.first = proto::kNoTick;
     world_ = make_world(config_.max_players, config_.laps);
     if (config_.connect_key) {
         verifier_ = std::make_unique<auth::TokenVerifier>(
@@ -51,7 +77,7 @@ void RaceServer::drop(net::PeerId peer, DropReason why, const std::string& reaso
         while (!text.empty() && (static_cast<unsigned char>(text.back()) & 0xC0) == 0x80) text.pop_back();
         if (!text.empty() && (static_cast<unsigned char>(text.back()) & 0x80) != 0) text.pop_back();
     }
-    send(peer, net::Channel::reliable, proto::Goodbye{text});
+    send(peer, net::Channel::reliable, proto::Goodbye{text, static_cast<std::uint16_t>(close_code(why))});
     transport_.disconnect(peer);
     Client gone = std::move(it->second);
     clients_.erase(it);
@@ -61,7 +87,7 @@ void RaceServer::drop(net::PeerId peer, DropReason why, const std::string& reaso
 void RaceServer::refuse(Client& c, const std::string& name, Refusal why, const std::string& reason) {
     ++counters_.refused[static_cast<std::size_t>(why)];
     spdlog::warn("refusing client {} ({}): {}", c.peer, name, reason);
-    send(c.peer, net::Channel::reliable, proto::Refuse{reason});
+    send(c.peer, net::Channel::reliable, proto::Refuse{reason, static_cast<std::uint16_t>(close_code(why))});
     transport_.disconnect(c.peer);
 }
 
@@ -71,7 +97,6 @@ void RaceServer::on_event(const net::Event& e) {
             Client c;
             c.peer = e.peer;
             c.connected_us = now_us_;
-            c.input_ticks.fill(proto::kNoTick);
             clients_[e.peer] = c;
             spdlog::info("client {} connected", e.peer);
             break;
@@ -209,45 +234,18 @@ void RaceServer::on_inputs(Client& c, const proto::InputBatch& b) {
         note(c, kInputWhileSpectating, "inputs while spectating (no car until the next race); ignored");
         return;
     }
-    const std::uint64_t now_tick = world_.tick;
-    // The newest tick the client has produced an input for, late or not: the
-    // margin fed back in snapshots tells it to run further ahead. Beyond the
-    // lead limit it counts as the limit, so a client that ran too far ahead
-    // learns it (and slows down) instead of hearing stale news forever.
-    const std::uint64_t newest = std::min(std::uint64_t{b.first_tick} + b.inputs.size() - 1,
-                                          now_tick + static_cast<std::uint64_t>(config_.max_input_lead_ticks));
-    if (c.newest_input_tick == proto::kNoTick || newest > c.newest_input_tick) {
-        c.newest_input_tick = static_cast<std::uint32_t>(newest);
+    const InputQueue::Accepted got = c.inputs.accept(b, world_.tick, config_.max_input_lead_ticks);
+    counters_.inputs_late += got.late;
+    counters_.inputs_dropped += got.dropped;
+    if (got.too_far_tick != proto::kNoTick) {
+        note(c, kInputTooFarAhead,
+             fmt::format("input for tick {} is more than {} ticks ahead of tick {}; dropped", got.too_far_tick,
+                         config_.max_input_lead_ticks, world_.tick));
     }
-    for (std::size_t i = 0; i < b.inputs.size(); ++i) {
-        const std::uint64_t t = std::uint64_t{b.first_tick} + i;
-        if (t < now_tick) {
-            // Too late: that tick is simulated. A redundant copy of an input
-            // that came in time is not late.
-            if (now_tick - t < kInputRing && c.input_ticks[t % kInputRing] != t) ++counters_.inputs_late;
-            continue;
-        }
-        if (t > now_tick + static_cast<std::uint64_t>(config_.max_input_lead_ticks)) {
-            note(c, kInputTooFarAhead,
-                 fmt::format("input for tick {} is more than {} ticks ahead of tick {}; dropped", t,
-                             config_.max_input_lead_ticks, now_tick));
-            counters_.inputs_dropped += b.inputs.size() - i;
-            break;
-        }
-        const auto tick = static_cast<std::uint32_t>(t);
-        // One input per tick, the first one received: redundant copies are
-        // identical, and a client sending different ones for the same tick
-        // (a speed hack, or spoiling the inputs already relayed to the
-        // others as upcoming) changes nothing.
-        if (c.input_ticks[tick % kInputRing] == tick) {
-            if (c.inputs[tick % kInputRing].pack() != b.inputs[i].pack()) {
-                note(c, kConflictingInput,
-                     fmt::format("a second, different input for tick {}; only the first one received counts", tick));
-            }
-            continue;
-        }
-        c.inputs[tick % kInputRing] = b.inputs[i];
-        c.input_ticks[tick % kInputRing] = tick;
+    if (got.conflicting_tick != proto::kNoTick) {
+        note(c, kConflictingInput,
+             fmt::format("a second, different input for tick {}; only the first one received counts",
+                         got.conflicting_tick));
     }
 }
 

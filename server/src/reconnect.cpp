@@ -92,7 +92,8 @@ void RaceServer::on_reconnect(Client& c, const proto::Hello& h) {
     if (held_slot >= 0) held_.erase(held_slot);
     if (replaced != kNoPeer) {
         spdlog::info("'{}' (slot {}) reconnected from a new connection: closing the old one", back.name, back.slot);
-        send(replaced, net::Channel::reliable, proto::Goodbye{"replaced by a reconnection of the same player"});
+        send(replaced, net::Channel::reliable, proto::Goodbye{"replaced by a reconnection of the same player",
+                                                      static_cast<std::uint16_t>(proto::CloseCode::replaced)});
         transport_.disconnect(replaced);
         clients_.erase(replaced);  // its disconnect event finds nothing
     }
@@ -101,11 +102,7 @@ void RaceServer::on_reconnect(Client& c, const proto::Hello& h) {
     // snapshot (the client forgot its own).
     back.peer = c.peer;
     back.connected_us = c.connected_us;
-    back.input_ticks.fill(proto::kNoTick);
-    back.newest_input_tick = proto::kNoTick;
-    back.last_applied_tick = proto::kNoTick;
-    back.last_input = Input{};
-    back.acked_snapshot = proto::kNoTick;
+    back.reset_link_state();
     const auto s = static_cast<std::size_t>(back.slot);
     back.spectating = !world_.cars[s].active && phase_ != proto::RacePhase::lobby;
     slot_peer_[s] = c.peer;

@@ -22,8 +22,9 @@ std::string validate(const ServerConfig& c, int tick_rate_hz) {
     if (!(c.results_pause_s >= 0 && c.results_pause_s <= 600)) err << "results pause must be in [0, 600] s; ";
     if (!(c.finish_window_s > 0 && c.finish_window_s <= 3600)) err << "finish window must be in (0, 3600] s; ";
     if (!(c.max_race_s > 0 && c.max_race_s <= 86400)) err << "max race time must be in (0, 86400] s; ";
-    if (c.max_input_lead_ticks < 1 || c.max_input_lead_ticks >= 256)
-        err << "max input lead must be in [1, 255] ticks (the input ring holds 256); ";
+    if (c.max_input_lead_ticks < 1 || c.max_input_lead_ticks > InputQueue::kMaxLeadTicks)
+        err << "max input lead must be in [1, " << InputQueue::kMaxLeadTicks << "] ticks (the input ring holds "
+            << InputQueue::kRing << "); ";
     if (!(c.hello_timeout_s > 0 && c.hello_timeout_s <= 86400)) err << "hello timeout must be in (0, 86400] s; ";
     if (!(c.reconnect_grace_s >= 0 && c.reconnect_grace_s <= 3600)) err << "reconnect grace must be in [0, 3600] s; ";
     if (c.race_id.size() > auth::kMaxRaceIdBytes || !proto::valid_text(c.race_id))

@@ -15,6 +15,7 @@
 #include "jetrace/offline_race.hpp"
 #include "jetrace/replay/diff.hpp"
 #include "jetrace/server/race_server.hpp"
+#include "jetrace/server/replay_recorder.hpp"
 #include "raw_client.hpp"
 #include "severable.hpp"
 
@@ -127,7 +128,7 @@ public:
             const std::string name =
                 "jetrace_live_" + std::to_string(::getpid()) + "_" + std::to_string(counter()++) + ".replay";
             replay_path_ = (std::filesystem::temp_directory_path() / name).string();
-            cfg.record_path = replay_path_;
+            recorder_ = std::make_unique<server::ReplayRecorder>(server::RecorderConfig{replay_path_, {}});
         }
         net::ServerConfig ncfg;
         ncfg.bind = "127.0.0.1";
@@ -141,6 +142,7 @@ public:
         port = server_net_->local_port();
         if (o.conditions) server_net_ = net::condition(std::move(server_net_), *o.conditions);
         server_ = std::make_unique<server::RaceServer>(cfg, *scene_, *server_net_);
+        server_->observer = recorder_.get();
         server_->on_race_end = [this](const server::RaceEnd& e) {
             ends.push_back(e);
             end_worlds.push_back(server_->world());
@@ -332,6 +334,7 @@ private:
     std::unique_ptr<Scene> scene_;
     std::string replay_path_;
     std::unique_ptr<net::Transport> server_net_;
+    std::unique_ptr<server::ReplayRecorder> recorder_;  // before server_: outlives it
     std::unique_ptr<server::RaceServer> server_;
     std::vector<std::unique_ptr<Bot>> bots_;
     std::vector<std::unique_ptr<RawClient>> raws_;

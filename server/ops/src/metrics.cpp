@@ -166,7 +166,7 @@ void Metrics::publish(const MetricsSample& s) {
     advance(m.late, s.counters.inputs_late);
     advance(m.dropped, s.counters.inputs_dropped);
     advance(m.missing, s.counters.inputs_missing);
-    advance(m.replay_bytes, s.counters.replay_bytes_written);
+    advance(m.replay_bytes, s.replay_bytes_written);
     advance(m.write_errors, s.replay_failures);
     advance(m.refused_unallocated, s.refused_unallocated);
     for (std::size_t i = 0; i < m.refused.size(); ++i) advance(*m.refused[i], s.counters.refused[i]);
@@ -191,7 +191,6 @@ MetricsSample sample_of(const server::RaceServer& server, const net::Transport& 
     s.server_ticks = server.ticks();
     s.players = server.player_status();
     s.counters = server.counters();
-    s.replay_failures = server.replay_failures();
     s.traffic = transport.totals();
     return s;
 }

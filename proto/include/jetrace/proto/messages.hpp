@@ -6,10 +6,11 @@
 #pragma once
 
 #include "jetrace/hovercar.hpp"
+#include "jetrace/proto/close_code.hpp"
 
 #include <cstdint>
-#include <span>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <variant>
@@ -17,7 +18,7 @@
 
 namespace jetrace::proto {
 
-inline constexpr std::uint16_t kProtocolVersion = 3;
+inline constexpr std::uint16_t kProtocolVersion = 4;
 /// Larger datagrams are rejected before parsing (unit: bytes).
 inline constexpr std::size_t kMaxMessageBytes = 8192;
 /// Most inputs one InputBatch may carry.
@@ -74,6 +75,8 @@ struct Welcome {
 /// Server -> client, reliable: not accepted (then disconnected).
 struct Refuse {
     std::string reason;
+    /// Why, as a number (a CloseCode in 2000-2999; 0 from older servers).
+    std::uint16_t code = 0;
 };
 
 /// Client -> server, unreliable: the client's inputs for ticks first_tick,
@@ -137,6 +140,8 @@ struct Results {
 /// Either direction, reliable: leaving, with a reason.
 struct Goodbye {
     std::string reason;
+    /// Why, as a number (a CloseCode; 0 from older peers).
+    std::uint16_t code = 0;
 };
 
 using Message = std::variant<Hello, Welcome, Refuse, InputBatch, Snapshot, RaceStatus, Results, Goodbye>;

@@ -62,8 +62,6 @@ struct RaceCounters {
     std::array<std::uint64_t, static_cast<std::size_t>(Refusal::count)> refused{};
     /// Connections dropped by the server, by reason (unit: connections).
     std::array<std::uint64_t, static_cast<std::size_t>(DropReason::count)> dropped{};
-    /// Replay bytes handed to the OS, every race so far (unit: bytes).
-    std::uint64_t replay_bytes_written = 0;
 };
 
 /// One player of RaceServer::player_status().

@@ -12,8 +12,10 @@
 #include "jetrace/proto/messages.hpp"
 #include "jetrace/proto/world_codec.hpp"
 #include "jetrace/replay/format.hpp"
-#include "jetrace/replay/writer.hpp"
 #include "jetrace/server/counters.hpp"
+#include "jetrace/server/input_queue.hpp"
+#include "jetrace/server/race_observer.hpp"
+#include "jetrace/server/snapshot_history.hpp"
 #include "jetrace/world.hpp"
 
 #include <array>
@@ -54,9 +56,6 @@ struct ServerConfig {
     /// the caller's clock; jetrace-server scales its --hello-timeout, given
     /// in real time, by --time-scale).
     double hello_timeout_s = 5.0;
-    /// Replay of each race ("" = none); %n and %t expand as in
-    /// expand_path() (server/include/jetrace/server/path_template.hpp).
-    std::string record_path;
     /// With at least one but fewer than min_players players for this long,
     /// the lobby starts the race anyway, or with lobby_timeout_cancels tells
     /// the players why and lets them go (unit: s; 0 = wait forever).
@@ -64,8 +63,6 @@ struct ServerConfig {
     bool lobby_timeout_cancels = false;
     /// How often a waiting lobby logs "waiting N/M" (unit: s).
     double lobby_log_interval_s = 10.0;
-    /// Signs each replay with this Ed25519 secret key (unset = unsigned).
-    std::optional<replay::SigningKey> replay_sign_key;
     /// A player whose connection drops without a Goodbye keeps its slot, and
     /// its car (driven with neutral inputs), this long for a Hello with its
     /// reconnect token; 0 frees the slot at once (unit: s).
@@ -140,8 +137,6 @@ public:
     proto::RacePhase phase() const { return phase_; }
     const WorldState& world() const { return world_; }
     std::uint32_t races_completed() const { return races_completed_; }
-    /// Replays whose writing failed (each logged with what was lost).
-    std::uint32_t replay_failures() const { return replay_failures_; }
     std::uint64_t ticks() const { return ticks_; }
     int max_players_seen() const { return max_players_seen_; }
     /// Connection requests the transport dropped because their address
@@ -159,15 +154,16 @@ public:
     std::vector<PlayerStatus> player_status() const;
 
     /// Called at the end of every race that started (the caller writes the
-    /// results file: the library does no file I/O for results).
+    /// results file: the library does no file I/O).
     std::function<void(const RaceEnd&)> on_race_end;
+    /// Sees every race tick by tick (jetrace-server's ReplayRecorder writes
+    /// the replay); nullptr = none. Must outlive the server.
+    RaceObserver* observer = nullptr;
     /// Called after a connect token was admitted, with the verifier whose
     /// spent nonces changed (jetrace-server's --nonce-file saves them).
     std::function<void(const auth::TokenVerifier&)> on_nonce_spent;
 
 private:
-    static constexpr std::size_t kInputRing = 256;
-    static constexpr std::size_t kHistory = 128;
     /// Spent reconnect tokens remembered to refuse them with a clear reason.
     static constexpr std::size_t kRetiredTokens = 256;
     using ReconnectToken = std::array<std::uint8_t, proto::kTokenBytes>;
@@ -182,14 +178,16 @@ private:
         int slot = -1;
         bool spectating = false;
         std::uint64_t connected_us = 0;
-        std::array<Input, kInputRing> inputs{};
-        std::array<std::uint32_t, kInputRing> input_ticks{};
-        std::uint32_t newest_input_tick = proto::kNoTick;
-        std::uint32_t last_applied_tick = proto::kNoTick;
-        Input last_input{};
+        InputQueue inputs;
         std::uint32_t acked_snapshot = proto::kNoTick;
         /// Anomalies already logged for this client (bits of Anomaly).
         std::uint8_t logged_anomalies = 0;
+        /// What a new race or a new connection starts without: inputs and
+        /// the acknowledged snapshot.
+        void reset_link_state() {
+            inputs.reset();
+            acked_snapshot = proto::kNoTick;
+        }
     };
 
     /// Odd but harmless client behaviour: the data is ignored, the first
@@ -224,12 +222,12 @@ private:
     void step_race();
     void start_race();
     void end_race(replay::EndReason reason);
-    void check_replay_write();
     void send_snapshots();
     void lobby_tick();
     void cancel_lobby(const std::string& reason);
     void check_drain();
-    void finish_replay(replay::EndReason reason, std::uint64_t hash);
+    void observe_start();
+    void observe_end(replay::EndReason reason, std::uint64_t hash);
     std::vector<proto::StandingEntry> current_standings() const;
     std::vector<Racer> racers() const;
     int free_slot() const;
@@ -265,13 +263,8 @@ private:
     std::vector<std::uint8_t> pending_removals_;
     std::uint32_t first_finish_tick_ = proto::kNoTick;
     std::uint64_t results_until_us_ = 0;
-    std::array<std::pair<std::uint32_t, proto::WorldSnapshot>, kHistory> history_{};
-    replay::Writer replay_;
-    std::uint32_t replay_failures_ = 0;
-    /// Replay bytes of the races before the one replay_ holds.
-    std::uint64_t replay_bytes_before_ = 0;
+    SnapshotHistory snapshots_;
     RaceCounters counters_;
-    bool replay_failure_logged_ = false;
     std::uint64_t ticks_ = 0;
     int max_players_seen_ = 0;
     bool done_ = false;

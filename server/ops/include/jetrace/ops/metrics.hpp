@@ -30,7 +30,10 @@ struct MetricsSample {
     std::uint64_t server_ticks = 0;
     std::vector<server::PlayerStatus> players;
     server::RaceCounters counters;
+    /// Replays whose writing failed, and the bytes of every replay so far
+    /// (jetrace-server's ReplayRecorder; 0 without --record).
     std::uint64_t replay_failures = 0;
+    std::uint64_t replay_bytes_written = 0;
     /// Hellos refused because Agones had not allocated the server yet.
     std::uint64_t refused_unallocated = 0;
     net::Totals traffic;

@@ -1,0 +1,26 @@
+// CloseCode names (docs/PROTOCOL.md, "Close codes").
+#include "jetrace/proto/close_code.hpp"
+
+namespace jetrace::proto {
+
+std::string_view close_code_name(std::uint16_t code) {
+    switch (static_cast<CloseCode>(code)) {
+        case CloseCode::unspecified: return "unspecified";
+        case CloseCode::left: return "left";
+        case CloseCode::server_shutdown: return "server_shutdown";
+        case CloseCode::replaced: return "replaced";
+        case CloseCode::lobby_cancelled: return "lobby_cancelled";
+        case CloseCode::refused_version: return "refused_version";
+        case CloseCode::refused_token: return "refused_token";
+        case CloseCode::refused_clock: return "refused_clock";
+        case CloseCode::refused_full: return "refused_full";
+        case CloseCode::refused_reconnect: return "refused_reconnect";
+        case CloseCode::refused_draining: return "refused_draining";
+        case CloseCode::no_hello: return "no_hello";
+        case CloseCode::malformed: return "malformed";
+        case CloseCode::protocol_violation: return "protocol_violation";
+    }
+    return "";
+}
+
+}  // namespace jetrace::proto
