@@ -1,5 +1,6 @@
 #include "hosting.hpp"
 
+#include "jetrace/cli/finite.hpp"
 #include "jetrace/ops/metrics.hpp"
 
 #include <spdlog/spdlog.h>
@@ -18,10 +19,10 @@ void add_hosting_options(CLI::App& app, HostingFlags& h) {
                  "speak the Agones SDK (sidecar at localhost:AGONES_SDK_HTTP_PORT, default 9358; on by itself when "
                  "that variable is set)");
     app.add_option("--agones-health-period", h.health_period_s, "seconds between Agones Health pings")
-        ->check(CLI::Range(0.1, 60.0));
+        ->check(jetrace::cli::finite() & CLI::Range(0.1, 60.0));
     app.add_option("--agones-connect-timeout", h.connect_timeout_s,
                    "seconds to keep retrying an Agones sidecar that is not up yet or stopped answering")
-        ->check(CLI::Range(0.5, 3600.0));
+        ->check(jetrace::cli::finite() & CLI::Range(0.5, 3600.0));
 }
 
 bool apply_hosting(const HostingFlags& h, Hosting& out) {

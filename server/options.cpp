@@ -4,6 +4,7 @@
 #include "jetrace/auth/key_file.hpp"
 #include "jetrace/cli/finite.hpp"
 #include "jetrace/cli/logging.hpp"
+#include "jetrace/cli/range.hpp"
 #include "jetrace/server/host_files.hpp"
 #include "jetrace/server/path_template.hpp"
 
@@ -19,6 +20,8 @@ namespace jetrace::server {
 namespace {
 
 const CLI::Validator kFinite = jetrace::cli::finite();
+using L = ServerLimits;
+using jetrace::cli::in_range;
 
 void add_race_options(CLI::App& app, HostOptions& o) {
     ServerConfig& cfg = o.cfg;
@@ -29,28 +32,28 @@ void add_race_options(CLI::App& app, HostOptions& o) {
                    "(0: no limit)")
         ->check(CLI::Range(0, 1000));
     app.add_option("--track", o.track_spec, "built-in track (stadium, ring) or a Wavefront .obj file");
-    app.add_option("--laps", cfg.laps, "laps per race")->check(CLI::Range(1, 1000));
-    app.add_option("--max-players", cfg.max_players, "most players in a race")->check(CLI::Range(1, 64));
-    app.add_option("--min-players", cfg.min_players, "players needed to start the countdown")->check(CLI::Range(1, 64));
+    app.add_option("--laps", cfg.laps, "laps per race")->check(in_range(L::laps));
+    app.add_option("--max-players", cfg.max_players, "most players in a race")->check(in_range(L::players));
+    app.add_option("--min-players", cfg.min_players, "players needed to start the countdown")->check(in_range(L::players));
     app.add_option("--tick-rate", o.tick_rate, "simulation steps per second (clients adopt it)")
         ->check(CLI::Range(10, 1000));
     app.add_option("--snapshot-rate", cfg.snapshot_rate_hz,
                    "snapshots per second; divides the tick rate (default: its largest divisor up to 60)")
         ->check(CLI::Range(1, 1000));
-    app.add_option("--races", cfg.races, "exit after this many races (0: host forever)")->check(CLI::Range(0, 1000000));
+    app.add_option("--races", cfg.races, "exit after this many races (0: host forever)")->check(in_range(L::races));
     app.add_option("--countdown", cfg.countdown_s, "countdown before each race (s)")
-        ->check(kFinite)->check(CLI::Range(0.0, 600.0));
+        ->check(in_range(L::countdown_s));
     app.add_option("--finish-window", cfg.finish_window_s, "time the others get after the winner finishes (s)")
-        ->check(kFinite)->check(CLI::Range(1.0, 3600.0));
+        ->check(in_range(L::finish_window_s));
     app.add_option("--reconnect-grace", cfg.reconnect_grace_s,
                    "how long a dropped player's slot and car wait for its reconnect (s; 0: none)")
-        ->check(kFinite)->check(CLI::Range(0.0, 3600.0));
+        ->check(in_range(L::reconnect_grace_s));
     app.add_option("--hello-timeout", o.hello_timeout_s,
                    "drop a connection that has not said Hello after this long (s of real time, whatever --time-scale)")
-        ->check(kFinite)->check(CLI::Range(0.1, 600.0));
+        ->check(in_range(L::hello_timeout_s));
     app.add_option("--lobby-timeout", cfg.lobby_timeout_s,
                    "with 1 to --min-players - 1 players for this long, start anyway or cancel (s; 0: wait forever)")
-        ->check(kFinite)->check(CLI::Range(0.0, 86400.0));
+        ->check(in_range(L::lobby_timeout_s));
     app.add_option("--lobby-timeout-action", o.lobby_timeout_action,
                    "what the lobby timeout does: start (the race, with those there) or cancel (tell them and reset)")
         ->check(CLI::IsMember({"start", "cancel"}));

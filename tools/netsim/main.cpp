@@ -6,6 +6,7 @@
 // Each condition applies to both directions unless given per direction
 // (--up-loss: client -> server, --down-loss: server -> client). On SIGINT,
 // SIGTERM or after --duration it prints one JSON line of counters.
+#include "jetrace/cli/finite.hpp"
 #include "jetrace/cli/logging.hpp"
 #include "jetrace/net/address.hpp"
 #include "udp_proxy.hpp"
@@ -71,7 +72,7 @@ int main(int argc, char** argv) {
          &jetrace::net::Conditions::rate_queue_ms, {}, {}, {}},
     };
     for (ConditionOption& o : conditions) {
-        const CLI::Range range(o.lo, o.hi);
+        const CLI::Validator range = jetrace::cli::finite() & CLI::Range(o.lo, o.hi);
         app.add_option(std::string("--") + o.name, o.both, std::string(o.help) + ", both directions")->check(range);
         app.add_option(std::string("--up-") + o.name, o.up, std::string(o.help) + ", client -> server")->check(range);
         app.add_option(std::string("--down-") + o.name, o.down, std::string(o.help) + ", server -> client")
@@ -79,9 +80,9 @@ int main(int argc, char** argv) {
     }
     app.add_option("--seed", seed, "seed of the random choices");
     app.add_option("--duration", duration_s, "exit after this many seconds (0: run until SIGINT/SIGTERM)")
-        ->check(CLI::Range(0.0, 1e7));
+        ->check(jetrace::cli::finite() & CLI::Range(0.0, 1e7));
     app.add_option("--idle-timeout", cfg.idle_timeout_s, "forget a client silent for this long (s)")
-        ->check(CLI::Range(1.0, 86400.0));
+        ->check(jetrace::cli::finite() & CLI::Range(1.0, 86400.0));
     app.add_option("--max-clients", cfg.max_clients, "most clients served at once")->check(CLI::Range(1, 4096));
     jetrace::cli::add_log_level_option(app, log_level);
     CLI11_PARSE(app, argc, argv);

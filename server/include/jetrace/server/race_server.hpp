@@ -16,6 +16,7 @@
 #include "jetrace/server/input_queue.hpp"
 #include "jetrace/server/race_observer.hpp"
 #include "jetrace/server/snapshot_history.hpp"
+#include "jetrace/value_range.hpp"
 #include "jetrace/world.hpp"
 
 #include <array>
@@ -78,6 +79,25 @@ struct ServerConfig {
     /// Nonces already spent (a restart's --nonce-file): refused like ones
     /// admitted here.
     std::vector<auth::SpentNonce> spent_nonces;
+};
+
+/// The allowed values of ServerConfig's fields: validate() checks them and
+/// jetrace-server's options offer exactly them (min_players is also at most
+/// max_players; the snapshot rate must divide the tick rate).
+struct ServerLimits {
+    static constexpr ValueRange laps = closed(1, 1000);
+    static constexpr ValueRange players = closed(1, proto::kMaxSlots);
+    static constexpr ValueRange races = closed(0, 1e6);
+    static constexpr ValueRange countdown_s = closed(0, 600);
+    static constexpr ValueRange results_pause_s = closed(0, 600);
+    static constexpr ValueRange finish_window_s = above(0, 3600);
+    static constexpr ValueRange max_race_s = above(0, 86400);
+    static constexpr ValueRange max_input_lead_ticks = closed(1, InputQueue::kMaxLeadTicks);
+    static constexpr ValueRange hello_timeout_s = above(0, 86400);
+    static constexpr ValueRange lobby_timeout_s = closed(0, 86400);
+    static constexpr ValueRange lobby_log_interval_s = above(0, 86400);
+    static constexpr ValueRange reconnect_grace_s = closed(0, 3600);
+    static constexpr ValueRange max_connect_nonces = closed(1, 1e7);
 };
 
 /// The snapshot rate used unless one is given: the largest divisor of the
