@@ -16,13 +16,6 @@ const char* to_string(Integrator i) {
     return "unknown";
 }
 
-bool parse_integrator(const std::string& s, Integrator& out) {
-    if (s == "explicit") { out = Integrator::explicit_euler; return true; }
-    if (s == "semi-implicit") { out = Integrator::semi_implicit_euler; return true; }
-    if (s == "verlet") { out = Integrator::velocity_verlet; return true; }
-    return false;
-}
-
 const char* to_string(CollisionMode m) {
     switch (m) {
         case CollisionMode::discrete: return "discrete";
@@ -37,12 +30,6 @@ const char* to_string(PushOut p) {
         case PushOut::each_contact: return "each-contact";
     }
     return "unknown";
-}
-
-bool parse_collision_mode(const std::string& s, CollisionMode& out) {
-    if (s == "discrete") { out = CollisionMode::discrete; return true; }
-    if (s == "swept") { out = CollisionMode::swept; return true; }
-    return false;
 }
 
 namespace {

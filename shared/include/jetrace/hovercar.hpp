@@ -84,8 +84,9 @@ Quat orientation_from(const Vec3& forward, const Vec3& up);
 /// friction. Changes velocity and orientation, not position.
 void apply_controls_and_forces(const PhysicsSettings& s, const Contacts& contacts, const Input& input, CarState& car);
 
-/// Phase 2: moves the car by its velocity with the configured integrator.
-/// `accel` is the acceleration phase 1 applied (for Verlet).
+/// Phase 2: moves the car by its velocity with the configured integrator;
+/// `velocity_before` is its velocity before phase 1 (Verlet and explicit
+/// Euler use it).
 void integrate(const PhysicsSettings& s, const Vec3& velocity_before, CarState& car);
 
 /// Phase 4 (after the push-out): turns the car's up towards the contact

@@ -48,10 +48,6 @@ enum class PushOut : std::uint8_t {
 };
 
 const char* to_string(PushOut p);
-/// Parses "discrete" or "swept". Returns false if unknown.
-bool parse_collision_mode(const std::string& s, CollisionMode& out);
-/// Parses "explicit", "semi-implicit" or "verlet". Returns false if unknown.
-bool parse_integrator(const std::string& s, Integrator& out);
 
 struct PhysicsSettings {
     /// Fixed steps per simulated second (unit: Hz).
