@@ -119,6 +119,9 @@ int main(int argc, char** argv) {
         ->expected(1, 2);
     modes->add_option("--synctest", synctest_path, "step every tick twice (fresh scratch, and rollbacks) and compare");
     modes->require_option(0, 1);
+    std::optional<std::uint32_t> stop_tick;
+    app.add_option("--stop-tick", stop_tick, "with --replay: print the world at this tick as JSON (car positions) instead")
+        ->needs("--replay");
     app.add_flag("--rebuild", rebuild, "with --diff A: compare A against this build's re-simulation");
     app.add_option("--key", rargs.key_file, "the replay must be signed by this public key (FILE.pub)");
     app.add_option("--expect", expect, "the final state hash must be this (16 hex digits)");
@@ -133,6 +136,7 @@ int main(int argc, char** argv) {
         return 2;
     }
     if (app.count("--track") > 0) rargs.track = race.track;
+    if (stop_tick) return jetrace::sim::state_at_file(replay_path, rargs, *stop_tick);
     if (!replay_path.empty()) return jetrace::sim::replay_file(replay_path, rargs);
     if (!verify_path.empty()) return jetrace::sim::verify_file(verify_path, rargs);
     if (!diff.empty()) return jetrace::sim::diff_files(diff[0], diff.size() > 1 ? diff[1] : "", rargs);
