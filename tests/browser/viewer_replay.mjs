@@ -85,8 +85,8 @@ try {
   samePositions(s.cars, expected, 'seek back from the last tick');
   samePositions(s.ghosts[0], expectedGhost, 'ghost after seek back');
 
-  for (const mode of ['top', 'orbit']) {
-    await page.evaluate((m) => window.jetrace.camera(m), mode);
+  for (const mode of ['top', 'chase', 'orbit']) {
+    await page.select('#camera-mode', mode);
     await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
     const png = await page.screenshot({ path: mode === 'top' ? shotPath : undefined,
       clip: { x: 320, y: 120, width: 640, height: 440 } });
@@ -106,8 +106,9 @@ try {
   await page.evaluate(() => window.jetrace.sendRaw('{"type":"seek","tick":1e999}'));
   await page.waitForFunction(() => window.jetrace.state().closed, guard);
   check(true, 'the first page was closed after its malformed seek');
-  const before = await other.evaluate(() => window.jetrace.state().frames);
-  await other.waitForFunction((n) => window.jetrace.state().frames > n + 5, guard, before);
+  const before = await other.evaluate(() => window.jetrace.state());
+  console.log(`second page at tick ${before.tick}, ${before.frames} frames, playing ${before.playing}`);
+  await other.waitForFunction((n) => window.jetrace.state().frames > n + 5, guard, before.frames);
   const o = await other.evaluate(() => window.jetrace.state());
   check(o.connected && !o.closed && o.playing, 'the second page stays connected and keeps receiving frames');
 } finally {

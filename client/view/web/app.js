@@ -25,7 +25,7 @@ scene.add(new THREE.HemisphereLight(0xdfe9f5, 0x2a3140, 1.6));
 const sun = new THREE.DirectionalLight(0xffffff, 1.8);
 sun.position.set(0.4, 1, 0.3);
 scene.add(sun);
-const camera = new THREE.PerspectiveCamera(55, window.innerWidth / window.innerHeight, 0.5, 5000);
+const camera = new THREE.PerspectiveCamera(55, window.innerWidth / window.innerHeight, 1, 5000);
 const cameras = new Cameras(camera, renderer.domElement);
 let chaseSlot = 0;
 
@@ -35,7 +35,7 @@ const ghosts = [];         // per ghost replay: Map slot -> CarObject
 
 const socket = new WebSocket('ws://' + location.host + '/ws');
 const send = (msg) => { if (socket.readyState === WebSocket.OPEN) socket.send(JSON.stringify(msg)); };
-const panels = new Panels(send, (mode, slot) => { chaseSlot = slot; cameras.setMode(mode); });
+const panels = new Panels(send, (mode, slot) => { chaseSlot = slot; cameras.setMode(mode); redraw(); });
 
 async function loadTrack(h) {
   const response = await fetch('/track.bin');
@@ -44,6 +44,7 @@ async function loadTrack(h) {
   h.track.gates.forEach((g, i) => scene.add(gateObject(g, i)));
   cameras.fit(h.track.bounds);
   state.trackLoaded = true;
+  redraw();
 }
 
 function onHello(h) {
@@ -86,6 +87,7 @@ function onFrame(f) {
   state.frames++;
   panels.setFrame(f, { color: (slot) => '#' + carColor(slot).getHexString() });
   state.waiters = state.waiters.filter((w) => !w(f));
+  redraw();
 }
 
 socket.addEventListener('open', () => { state.connected = true; panels.setConnection(''); });
@@ -105,11 +107,17 @@ window.addEventListener('resize', () => {
   camera.updateProjectionMatrix();
   renderer.setSize(window.innerWidth, window.innerHeight);
   labels.setSize(window.innerWidth, window.innerHeight);
+  redraw();
 });
 
+// Draws only when something changed: a frame, the camera, the window.
+let dirty = true;
+const redraw = () => { dirty = true; };
+cameras.controls.addEventListener('change', redraw);
 renderer.setAnimationLoop(() => {
+  if (!dirty) return;
+  dirty = false;
   cameras.follow(cars.get(chaseSlot));
-  if (cameras.mode === 'orbit') cameras.controls.update();
   renderer.render(scene, camera);
   labels.render(scene, camera);
 });
@@ -138,7 +146,7 @@ window.jetrace = {
   play: () => send({ type: 'play' }),
   pause: () => send({ type: 'pause' }),
   speed: (value) => send({ type: 'speed', value }),
-  camera: (mode) => cameras.setMode(mode),
+  camera: (mode) => { cameras.setMode(mode); redraw(); },
   // Sends `text` as it is (tests send malformed messages with it).
   sendRaw: (text) => socket.send(text),
 };
