@@ -8,6 +8,7 @@
 
 #include "jetrace/builtin_tracks.hpp"
 #include "jetrace/offline_race.hpp"
+#include "jetrace/race.hpp"
 #include "jetrace/replay/scene_for.hpp"
 #include "jetrace/replay/writer.hpp"
 
@@ -81,7 +82,7 @@ protected:
         Track track;
         ASSERT_TRUE(make_builtin_track("ring", track));
         scene_ = std::make_unique<Scene>(Scene::make(std::move(track), PhysicsSettings{}));
-        start_ = start_race(*scene_, 3, 1);
+        start_ = start_race(*scene_, 3, 3);
         WorldState s = start_;
         replay::Writer w;
         replay::Recorder rec(w);
@@ -100,7 +101,7 @@ protected:
         return state_hash(s);
     }
 
-    static constexpr std::uint32_t kTicks = 1500;
+    static constexpr std::uint32_t kTicks = 4000;  // about 33 s: two laps of ring and more
     std::string path_;
     std::unique_ptr<Scene> scene_;
     WorldState start_;
@@ -145,6 +146,30 @@ TEST_F(RecordedRace, PlaysAtItsSpeedAndStopsAtTheEnd) {
     const std::string frame = frame_json(pb);
     EXPECT_NE(frame.find("\"standings\""), std::string::npos);
     EXPECT_NE(frame.find("\"best_lap_s\""), std::string::npos);
+}
+
+TEST_F(RecordedRace, TimesLapsAndGaps) {
+    ReplayPlayer p;
+    std::string error;
+    ASSERT_TRUE(p.load(path_, replay::scene_for(replay::load_builtin), {}, error)) << error;
+    const RaceTiming& t = p.timing();
+    const int rate = scene_->physics.tick_rate_hz;
+    const auto gates = scene_->track.checkpoints.size();
+    WorldState end;
+    StepScratch scratch;
+    p.seek(end, scratch, p.last_tick());
+    const auto order = standings(scene_->track, end.cars, end.start_tick, rate);
+    const int leader = order.front().slot;
+    EXPECT_GE(t.passes(leader, p.last_tick()), 2 * gates + 1);
+    const auto best = t.best_lap_s(leader, p.last_tick(), rate);
+    ASSERT_TRUE(best);
+    EXPECT_GT(*best, 1.0);
+    EXPECT_LT(*best, static_cast<double>(kTicks) / rate / 2);
+    EXPECT_FALSE(t.best_lap_s(leader, p.first_tick(), rate));  // nothing known at the start
+    EXPECT_FALSE(t.gap_s(leader, leader, p.last_tick(), rate));
+    const auto gap = t.gap_s(order.back().slot, leader, p.last_tick(), rate);
+    ASSERT_TRUE(gap);
+    EXPECT_GE(*gap, 0.0);
 }
 
 TEST_F(RecordedRace, RefusesAnAlteredReplay) {
