@@ -1,6 +1,7 @@
 // jetrace-view-bench: the viewer's figures as one JSON line (docs/VIEWER.md):
 // loading a replay (one re-simulation), seeking a fresh page to its last
-// tick from the kept states and from the start, and the bytes a page
+// tick from the kept states (and to the tick farthest from one) and from
+// the start, and the bytes a page
 // playing at 1x receives per second (frames as jetrace-view sends them,
 // each with its 4-byte WebSocket frame head).
 #include "playback.hpp"
@@ -36,12 +37,12 @@ bool load(const std::string& path, std::uint32_t keep_every, ReplayPlayer& p) {
     return false;
 }
 
-double median_seek_end_ms(const ReplayPlayer& p, int repeats) {
+double median_seek_ms(const ReplayPlayer& p, std::uint32_t tick, int repeats) {
     std::vector<double> ms;
     for (int i = 0; i < repeats; ++i) {
         jetrace::view::Playback pb(p, {});
         const auto t0 = Clock::now();
-        pb.seek(p.last_tick());
+        pb.seek(tick);
         ms.push_back(ms_since(t0));
     }
     std::sort(ms.begin(), ms.end());
@@ -78,12 +79,19 @@ int main(int argc, char** argv) {
     if (!load(path, jetrace::view::PlayerLimits{}.keep_every_ticks, kept)) return 2;
     const double load_ms = ms_since(t0);
     if (!load(path, 0xFFFFFFFFu, from_start)) return 2;
+    // The costliest seek: the last tick one short of a kept state.
+    const std::uint32_t keep = jetrace::view::PlayerLimits{}.keep_every_ticks;
+    const std::uint32_t span = kept.last_tick() - kept.first_tick();
+    const std::uint32_t worst = span < keep ? kept.last_tick() : kept.first_tick() + (span / keep) * keep - 1;
     nlohmann::json j = {{"replay", path},
                         {"cars", kept.header().initial.cars.size()},
                         {"ticks", kept.last_tick() - kept.first_tick()},
                         {"load_ms", load_ms},
-                        {"seek_end_ms_median", median_seek_end_ms(kept, repeats)},
-                        {"seek_end_from_start_ms_median", median_seek_end_ms(from_start, repeats)},
+                        {"keep_every_ticks", keep},
+                        {"seek_end_ms_median", median_seek_ms(kept, kept.last_tick(), repeats)},
+                        {"seek_worst_tick", worst},
+                        {"seek_worst_ms_median", median_seek_ms(kept, worst, repeats)},
+                        {"seek_end_from_start_ms_median", median_seek_ms(from_start, from_start.last_tick(), repeats)},
                         {"hello_bytes", jetrace::view::hello_json(jetrace::view::Playback(kept, {})).size()},
                         {"frame_rate_hz", frame_rate},
                         {"ws_bytes_per_s_per_page", stream_bytes_per_s(kept, frame_rate)}};
