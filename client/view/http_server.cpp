@@ -42,7 +42,11 @@ private:
             return;
         }
         http::request<http::string_body> req = parser_->release();
-        if (beast::websocket::is_upgrade(req) && req.target() == "/ws") {
+        const bool full = ctx_.open_pages >= ctx_.settings.max_pages;
+        if (beast::websocket::is_upgrade(req) && req.target() == "/ws" && full) {
+            spdlog::warn("http: refusing a page: {} pages are open (--max-pages)", ctx_.open_pages);
+        }
+        if (beast::websocket::is_upgrade(req) && req.target() == "/ws" && !full) {
             stream_.expires_never();
             std::make_shared<WsSession>(stream_.release_socket(), ctx_)->run(std::move(req));
             return;
@@ -70,6 +74,10 @@ private:
             return plain(http::status::method_not_allowed, "only GET and HEAD\n");
         }
         const std::string_view target(req.target().data(), req.target().size());
+        if (target == "/ws") {
+            return beast::websocket::is_upgrade(req) ? plain(http::status::service_unavailable, "too many pages are open\n")
+                                                     : plain(http::status::bad_request, "a WebSocket upgrade is expected here\n");
+        }
         if (target == "/track.bin") return body(ctx_.track_bin, "application/octet-stream");
         const auto file = resolve_static(target, ctx_.settings.web_dir, ctx_.settings.node_modules_dir);
         if (!file) return plain(http::status::not_found, "not found\n");

@@ -82,6 +82,8 @@ void add_options(CLI::App& app, Args& a) {
         ->check(CLI::Range(v::kMinFrameRateHz, v::kMaxFrameRateHz));
     app.add_option("--speed", s.speed, "playback speed a page starts at (times real time)")
         ->check(jetrace::cli::finite() & CLI::Range(v::kMinSpeed, v::kMaxSpeed));
+    app.add_option("--max-pages", s.max_pages, "pages (WebSockets) open at once; more are refused")
+        ->check(CLI::Range(1, v::kMaxPages));
     app.add_flag("--paused", s.paused, "pages start paused at the first tick (else they play at once)");
     app.add_option("--web", s.web_dir, "the page's files")->check(CLI::ExistingDirectory);
     app.add_option("--node-modules", s.node_modules_dir, "the node_modules holding three.js (npm ci)")

@@ -20,6 +20,8 @@ struct ViewContext {
     std::string track_bin;
     /// Number of the next page (WebSocket) to connect, for log lines.
     std::uint64_t next_page = 1;
+    /// Pages connected now (WsSession counts itself in and out).
+    int open_pages = 0;
 
     std::vector<const ReplayPlayer*> ghost_players() const {
         std::vector<const ReplayPlayer*> out;

@@ -15,6 +15,7 @@ std::string validate(const ViewSettings& s) {
     boost::asio::ip::make_address(s.http_host, ec);
     if (ec) return "http address '" + s.http_host + "' is not an IP address";
     if (s.frame_rate_hz < kMinFrameRateHz || s.frame_rate_hz > kMaxFrameRateHz) return "frame rate out of range";
+    if (s.max_pages < 1 || s.max_pages > kMaxPages) return "max pages out of range";
     if (!std::isfinite(s.speed) || s.speed < kMinSpeed || s.speed > kMaxSpeed) return "speed out of [0.25, 8]";
     if (!std::filesystem::is_regular_file(std::filesystem::path(s.web_dir) / "index.html")) {
         return "no index.html in the web directory '" + s.web_dir + "'";

@@ -9,6 +9,7 @@ namespace jetrace::view {
 
 inline constexpr int kMinFrameRateHz = 1;
 inline constexpr int kMaxFrameRateHz = 120;
+inline constexpr int kMaxPages = 1024;
 
 struct ViewSettings {
     /// Address the page is served on (loopback unless asked otherwise).
@@ -19,6 +20,8 @@ struct ViewSettings {
     int frame_rate_hz = 30;
     /// Playback speed a page starts at (unit: times real time).
     double speed = 1.0;
+    /// Pages (WebSockets) open at once; more are refused with 503 (unit: pages).
+    int max_pages = 32;
     /// Pages start paused at the first tick instead of playing.
     bool paused = false;
     /// The page's own files (index.html, app.js, style.css).

@@ -18,7 +18,10 @@ WsSession::WsSession(boost::asio::ip::tcp::socket&& socket, ViewContext& ctx)
       id_(ctx.next_page++),
       playback_(*ctx.main, ctx.ghost_players()) {
     playback_.set_speed(ctx.settings.speed);
+    ++ctx_.open_pages;
 }
+
+WsSession::~WsSession() { --ctx_.open_pages; }
 
 void WsSession::run(beast::http::request<beast::http::string_body> req) {
     ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));

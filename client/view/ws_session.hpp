@@ -22,6 +22,9 @@ namespace jetrace::view {
 class WsSession : public std::enable_shared_from_this<WsSession> {
 public:
     WsSession(boost::asio::ip::tcp::socket&& socket, ViewContext& ctx);
+    ~WsSession();
+    WsSession(const WsSession&) = delete;
+    WsSession& operator=(const WsSession&) = delete;
     /// Accepts the upgrade `req` asked for, then runs until either side closes.
     void run(boost::beast::http::request<boost::beast::http::string_body> req);
 

@@ -103,6 +103,15 @@ try {
     codes.push(await malformed(other, payload, binary));
   }
   check(codes.every((c) => c !== 1000 && c >= 1002), `malformed messages closed their sockets (codes ${codes.join(', ')})`);
+  // Two pages and a third socket are open: a fourth is refused (--max-pages 3).
+  const held = await other.evaluate(() => new Promise((resolve) => {
+    window.held = new WebSocket('ws://' + location.host + '/ws');
+    window.held.onopen = () => resolve(true);
+    window.held.onclose = () => resolve(false);
+  }));
+  const refused = await malformed(other, '{"type":"play"}', false);
+  check(held && refused === 1006, `a page over --max-pages is refused (close code ${refused})`);
+  await other.evaluate(() => new Promise((resolve) => { window.held.onclose = resolve; window.held.close(); }));
   await page.evaluate(() => window.jetrace.sendRaw('{"type":"seek","tick":1e999}'));
   await page.waitForFunction(() => window.jetrace.state().closed, guard);
   check(true, 'the first page was closed after its malformed seek');

@@ -4,7 +4,8 @@
 # one played with the other as a ghost on a port the system picks. The page
 # must show, after seeking to tick N, exactly the car positions jetrace-sim
 # re-simulates for tick N (ghost included); a screenshot must not be blank;
-# malformed messages must close only their own socket. Takes about 15-30 s
+# malformed messages must close only their own socket; a page over
+# --max-pages is refused. Takes about 15-30 s
 # on a 2-core machine.
 # Usage: viewer_replay.sh SIM VIEW SOURCE_DIR
 set -euo pipefail
@@ -25,7 +26,7 @@ tick=977
 cat "$out/expected.json" "$out/expected_ghost.json"
 
 mkfifo "$out/stdout"
-"$view" --replay "$out/main.jtr" --ghost "$out/ghost.jtr" --http 127.0.0.1:0 --paused \
+"$view" --replay "$out/main.jtr" --ghost "$out/ghost.jtr" --http 127.0.0.1:0 --paused --max-pages 3 \
   >"$out/stdout" 2>"$out/view.log" &
 pid=$!
 exec 3<"$out/stdout"
