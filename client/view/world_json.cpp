@@ -13,6 +13,10 @@ namespace {
 
 using nlohmann::json;
 
+/// Names and paths are untrusted bytes (a replay's player names carry no
+/// encoding): invalid UTF-8 becomes U+FFFD instead of an exception.
+std::string text_of(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
+
 json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
 
 /// Directions and speeds need no more than 1e-4 for drawing: fewer bytes.
@@ -110,7 +114,7 @@ std::string hello_json(const Playback& p) {
                     {"end_reason", r.complete() ? json(replay::end_reason_name(r.trailer().reason)) : json(nullptr)},
                     {"cars", roster_json(r)},
                     {"ghosts", ghosts}};
-    return j.dump();
+    return text_of(j);
 }
 
 std::string frame_json(const Playback& p) {
@@ -127,7 +131,7 @@ std::string frame_json(const Playback& p) {
                     {"speed", p.speed()},      {"cars", cars_json(s)},
                     {"standings", standings_json(r, s)},
                     {"ghosts", ghosts}};
-    return j.dump();
+    return text_of(j);
 }
 
 std::vector<std::uint8_t> track_mesh_bytes(const Track& track) {

@@ -172,6 +172,34 @@ TEST_F(RecordedRace, TimesLapsAndGaps) {
     EXPECT_GE(*gap, 0.0);
 }
 
+TEST(ReplayNames, InvalidUtf8IsReplacedNotThrown) {
+    const std::string path =
+        (std::filesystem::temp_directory_path() / ("test_view_names_" + std::to_string(::getpid()) + ".jtr")).string();
+    Track track;
+    ASSERT_TRUE(make_builtin_track("ring", track));
+    const Scene scene = Scene::make(std::move(track), PhysicsSettings{});
+    WorldState s = start_race(scene, 2, 1);
+    replay::Header h = replay::header_for(scene, s);
+    h.names = {"ok", "\xff\xfe<b>"};
+    replay::Writer w;
+    replay::Recorder rec(w);
+    ASSERT_TRUE(w.open(path, h));
+    StepScratch scratch;
+    run_ai(scene, s, skills_for(2, 1), 30, false, scratch, &rec);
+    ASSERT_TRUE(w.finish(replay::trailer_for(scene, s, replay::EndReason::time_limit)));
+    ReplayPlayer p;
+    std::string error;
+    ASSERT_TRUE(p.load(path, replay::scene_for(replay::load_builtin), {}, error)) << error;
+    std::filesystem::remove(path);
+    const Playback pb(p, {});
+    std::string hello, frame;
+    ASSERT_NO_THROW(hello = hello_json(pb));
+    ASSERT_NO_THROW(frame = frame_json(pb));
+    EXPECT_NE(hello.find("\"ok\""), std::string::npos);
+    EXPECT_NE(hello.find("\xef\xbf\xbd"), std::string::npos);  // U+FFFD
+    EXPECT_NE(frame.find("\xef\xbf\xbd"), std::string::npos);
+}
+
 TEST_F(RecordedRace, RefusesAnAlteredReplay) {
     auto bytes = std::filesystem::file_size(path_);
     std::FILE* f = std::fopen(path_.c_str(), "r+b");
