@@ -10,6 +10,8 @@
 # Usage: viewer_replay.sh SIM VIEW SOURCE_DIR
 set -euo pipefail
 sim="$1" view="$2" src="$3"
+[ -d "$src/node_modules/puppeteer-core" ] || { echo "no puppeteer-core in $src/node_modules: run npm ci there (tools/setup.sh does)"; exit 1; }
+[ -x /usr/bin/chromium ] || { echo "no /usr/bin/chromium: apt-get install chromium (tools/setup.sh does)"; exit 1; }
 out="$(mktemp -d)"
 pid=""
 cleanup() {
