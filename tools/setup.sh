@@ -3,7 +3,10 @@
 # Idempotent: does nothing if all are installed. Runs apt-get directly as
 # root, through sudo otherwise. Works on a minimal system that has only apt.
 #
-#   tools/setup.sh           everything (build, tests, tools, cross checks)
+#   tools/setup.sh           everything (build, tests, tools, cross checks), then
+#                            `npm ci` (package-lock.json: three.js for the viewer's
+#                            page, puppeteer-core for its tests) when node_modules
+#                            is missing or older than the lock file
 #   tools/setup.sh --server  only what building jetrace-server needs
 #                            (-DJETRACE_TESTS=OFF; deploy/Dockerfile uses it)
 set -euo pipefail
@@ -33,11 +36,15 @@ PACKAGES=(
   g++-aarch64-linux-gnu qemu-user emscripten nodejs libsodium-dev:arm64
   # scripts
   python3 procps
+  # the browser viewer (client/view): Boost.Beast for HTTP and WebSocket; headless Chromium and a font
+  # for its browser tests (the page's three.js and the tests' puppeteer-core come from npm, below)
+  libboost-dev chromium fonts-dejavu-core
 )
 
+NPM=1
 case "${1:-}" in
   "") ;;
-  --server) PACKAGES=("${SERVER_PACKAGES[@]}") ;;
+  --server) PACKAGES=("${SERVER_PACKAGES[@]}"); NPM=0 ;;
   *) echo "usage: tools/setup.sh [--server]" >&2; exit 2 ;;
 esac
 
@@ -48,8 +55,27 @@ for p in "${PACKAGES[@]}"; do
   fi
 done
 
+# npm: a Node.js that carries its own npm conflicts with Debian's npm
+# package, so npm comes from apt only where there is no npm command.
+if [ "$NPM" = 1 ] && ! command -v npm >/dev/null 2>&1 && ! dpkg-query -W -f='${Status}' npm 2>/dev/null | grep -q "install ok installed"; then
+  missing+=(npm)
+fi
+
+npm_ci() {
+  [ "$NPM" = 1 ] || return 0
+  local root
+  root="$(cd "$(dirname "$0")/.." && pwd)"
+  if [ -f "$root/node_modules/.package-lock.json" ] && [ "$root/node_modules/.package-lock.json" -nt "$root/package-lock.json" ]; then
+    echo "setup: node_modules up to date"
+    return 0
+  fi
+  echo "setup: npm ci"
+  (cd "$root" && npm ci --no-audit --no-fund)
+}
+
 if [ ${#missing[@]} -eq 0 ]; then
   echo "setup: all ${#PACKAGES[@]} packages already installed"
+  npm_ci
   exit 0
 fi
 
@@ -69,3 +95,4 @@ for p in "${missing[@]}"; do
 done
 "${SUDO[@]}" apt-get update -qq
 "${SUDO[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+npm_ci

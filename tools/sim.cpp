@@ -6,6 +6,7 @@
 #include "jetrace/race.hpp"
 #include "jetrace/replay/writer.hpp"
 #include "jetrace/track_io.hpp"
+#include "replay_svg.hpp"
 #include "sim_replay.hpp"
 
 #include <CLI/CLI.hpp>
@@ -119,6 +120,14 @@ int main(int argc, char** argv) {
         ->expected(1, 2);
     modes->add_option("--synctest", synctest_path, "step every tick twice (fresh scratch, and rollbacks) and compare");
     modes->require_option(0, 1);
+    std::optional<std::uint32_t> stop_tick;
+    app.add_option("--stop-tick", stop_tick, "with --replay: print the world at this tick as JSON (car positions) instead")
+        ->needs("--replay");
+    std::string svg_path;
+    int svg_width = 1200;
+    app.add_option("--svg", svg_path, "with --replay: write a top-down SVG of the track with each car's line coloured by speed")
+        ->needs("--replay")->excludes("--stop-tick");
+    app.add_option("--svg-width", svg_width, "the --svg picture's width in pixels (200..8000)")->check(CLI::Range(200, 8000));
     app.add_flag("--rebuild", rebuild, "with --diff A: compare A against this build's re-simulation");
     app.add_option("--key", rargs.key_file, "the replay must be signed by this public key (FILE.pub)");
     app.add_option("--expect", expect, "the final state hash must be this (16 hex digits)");
@@ -133,6 +142,8 @@ int main(int argc, char** argv) {
         return 2;
     }
     if (app.count("--track") > 0) rargs.track = race.track;
+    if (!svg_path.empty()) return jetrace::sim::svg_file(replay_path, rargs, svg_path, svg_width);
+    if (stop_tick) return jetrace::sim::state_at_file(replay_path, rargs, *stop_tick);
     if (!replay_path.empty()) return jetrace::sim::replay_file(replay_path, rargs);
     if (!verify_path.empty()) return jetrace::sim::verify_file(verify_path, rargs);
     if (!diff.empty()) return jetrace::sim::diff_files(diff[0], diff.size() > 1 ? diff[1] : "", rargs);

@@ -3,6 +3,7 @@
 #include "jetrace/auth/key_file.hpp"
 #include "jetrace/replay/diff.hpp"
 #include "jetrace/replay/scene_for.hpp"
+#include "jetrace/replay/scanner.hpp"
 #include "jetrace/replay/synctest.hpp"
 #include "jetrace/track_io.hpp"
 
@@ -84,6 +85,58 @@ int diff_files(const std::string& a, const std::string& b, const ReplayArgs& arg
         b.empty() ? replay::diff_against_build(replay::verify(sa, scenes(args))) : replay::diff_replays(sa, sb, scenes(args));
     std::printf("%s\n", replay::to_json(d).c_str());
     return d.verdict == "identical" ? 0 : 1;
+}
+
+namespace {
+
+void print_state_json(const WorldState& s) {
+    std::printf("{\"tick\":%u,\"cars\":[", s.tick);
+    const char* sep = "";
+    for (std::size_t i = 0; i < s.cars.size(); ++i) {
+        const Vec3& p = s.cars[i].position;
+        if (!s.cars[i].active) continue;
+        std::printf("%s{\"slot\":%zu,\"p\":[%.17g,%.17g,%.17g]}", sep, i, p.x(), p.y(), p.z());
+        sep = ",";
+    }
+    std::printf("]}\n");
+}
+
+}  // namespace
+
+int state_at_file(const std::string& path, const ReplayArgs& args, std::uint32_t stop_tick) {
+    replay::FileSource src;
+    if (!open(path, src)) return 2;
+    const replay::SceneFor scene_for = scenes(args);
+    replay::Scanner scanner(src);
+    replay::Event ev;
+    const Scene* scene = nullptr;
+    WorldState state;
+    StepScratch scratch;
+    bool reached = false;
+    std::string error;
+    while (scanner.next(ev)) {
+        if (ev.kind == replay::RecordKind::header) {
+            state = ev.header.initial;
+            scene = scene_for(ev.header, error);
+            if (scene != nullptr && ev.header.track_identity != scene->track.identity()) error = "another track";
+            if (scene == nullptr || !error.empty()) break;
+            reached = state.tick == stop_tick;
+        } else if (ev.kind == replay::RecordKind::tick) {
+            if (reached) break;
+            for (std::uint8_t slot : ev.tick.removed) remove_car(state, slot);
+            step(*scene, state, ev.tick.inputs, scratch);
+            reached = state.tick == stop_tick;
+        } else if (ev.kind == replay::RecordKind::trailer && reached) {
+            for (std::uint8_t slot : ev.trailer.removed) remove_car(state, slot);
+        }
+    }
+    if (!reached) {
+        std::fprintf(stderr, "jetrace-sim: %s: no world tick %u in this replay%s%s\n", path.c_str(), stop_tick,
+                     error.empty() ? "" : ": ", error.c_str());
+        return 2;
+    }
+    print_state_json(state);
+    return 0;
 }
 
 int synctest_file(const std::string& path, const ReplayArgs& args) {

@@ -96,10 +96,54 @@ void spawns(const Track& t, const Frame& f, std::string& out) {
     }
 }
 
+// Speed buckets of the traces' colours: blue (slowest) through to red.
+constexpr int kSpeedColours = 16;
+std::string speed_colour(int bucket) {
+    char buf[16];
+    const double u = static_cast<double>(bucket) / (kSpeedColours - 1);
+    std::snprintf(buf, sizeof buf, "#%02x%02x%02x", static_cast<int>(40 + 215 * u),
+                  static_cast<int>(60 + 120 * (1 - std::abs(2 * u - 1))), static_cast<int>(40 + 215 * (1 - u)));
+    return buf;
+}
+
+// One polyline per run of points in the same speed bucket.
+void trace_lines(const SvgTrace& t, const Frame& f, double lo, double hi, std::string& out) {
+    const auto bucket = [&](double v) {
+        return std::clamp(static_cast<int>((v - lo) / std::max(hi - lo, 1e-9) * (kSpeedColours - 1) + 0.5), 0,
+                          kSpeedColours - 1);
+    };
+    std::size_t i = 0;
+    while (i + 1 < t.points.size()) {
+        const int b = bucket(t.speeds_mps[i]);
+        std::size_t e = i + 1;
+        while (e + 1 < t.points.size() && bucket(t.speeds_mps[e]) == b) ++e;
+        out += "<polyline fill=\"none\" stroke-width=\"2\" stroke-linejoin=\"round\" stroke=\"" + speed_colour(b) +
+               "\" points=\"";
+        for (std::size_t k = i; k <= e; ++k) out += num(f.x(t.points[k].x())) + "," + num(f.y(t.points[k].z())) + " ";
+        out += "\"/>\n";
+        i = e;
+    }
+    if (t.points.empty()) return;
+    const Vec3& last = t.points.back();
+    out += "<text x=\"" + num(f.x(last.x()) + 4) + "\" y=\"" + num(f.y(last.z()) + 4) + "\" fill=\"#202020\">" +
+           xml_escape(t.name) + "</text>\n";
+}
+
+void speed_legend(double lo, double hi, std::string& out) {
+    out += "<text x=\"10\" y=\"18\" fill=\"#202020\">speed " + num(lo) + " m/s</text>\n";
+    for (int b = 0; b < kSpeedColours; ++b) {
+        out += "<rect x=\"" + std::to_string(110 + 8 * b) + "\" y=\"8\" width=\"8\" height=\"12\" fill=\"" +
+               speed_colour(b) + "\"/>\n";
+    }
+    out += "<text x=\"" + std::to_string(116 + 8 * kSpeedColours) + "\" y=\"18\" fill=\"#202020\">" + num(hi) +
+           " m/s</text>\n";
+}
+
 // What the picture shows: the route, gates and spawns with a margin (a level
 // may sit on a ground plane kilometres wide), else the whole mesh.
-Aabb frame_box(const Track& t, const TrackReport& r) {
+Aabb frame_box(const Track& t, const TrackReport& r, std::span<const SvgTrace> traces) {
     std::vector<Vec3> pts = r.route;
+    for (const SvgTrace& tr : traces) pts.insert(pts.end(), tr.points.begin(), tr.points.end());
     for (const Checkpoint& c : t.checkpoints) pts.push_back(c.center);
     for (const Pose& p : t.spawns) pts.push_back(p.position);
     if (pts.empty()) return t.bounds;
@@ -112,8 +156,12 @@ Aabb frame_box(const Track& t, const TrackReport& r) {
 }  // namespace
 
 std::string render_svg(const Track& track, const TrackReport& report, int width_px) {
+    return render_svg(track, report, width_px, {});
+}
+
+std::string render_svg(const Track& track, const TrackReport& report, int width_px, std::span<const SvgTrace> traces) {
     const double margin_m = 10;
-    const Aabb b = frame_box(track, report);
+    const Aabb b = frame_box(track, report, traces);
     const double span_x = b.max.x() - b.min.x() + 2 * margin_m, span_z = b.max.z() - b.min.z() + 2 * margin_m;
     Frame f;
     f.min_x = b.min.x() - margin_m;
@@ -133,6 +181,15 @@ std::string render_svg(const Track& track, const TrackReport& report, int width_
     route_line(report, f, out);
     gates(track, f, out);
     spawns(track, f, out);
+    if (!traces.empty()) {
+        double lo = 1e300, hi = 0;
+        for (const SvgTrace& t : traces) {
+            for (double v : t.speeds_mps) lo = std::min(lo, v), hi = std::max(hi, v);
+        }
+        lo = std::min(lo, hi);
+        for (const SvgTrace& t : traces) trace_lines(t, f, lo, hi, out);
+        speed_legend(lo, hi, out);
+    }
     out += "</svg>\n";
     return out;
 }

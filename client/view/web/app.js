@@ -1,0 +1,152 @@
+// jetrace viewer page: connects to jetrace-view's WebSocket, draws the
+// world it is sent (docs/VIEWER.md) and sends the user's timeline and
+// camera choices. window.jetrace is the test hook.
+import * as THREE from 'three';
+import { CSS2DRenderer } from 'three/addons/renderers/CSS2DRenderer.js';
+import { CarObject, carColor, gateObject, trackMesh } from './scene.js';
+import { Cameras } from './cameras.js';
+import { Panels } from './ui.js';
+
+const view = document.getElementById('view');
+const renderer = new THREE.WebGLRenderer({ antialias: true });
+renderer.setPixelRatio(window.devicePixelRatio);
+renderer.setSize(window.innerWidth, window.innerHeight);
+view.append(renderer.domElement);
+const labels = new CSS2DRenderer();
+labels.setSize(window.innerWidth, window.innerHeight);
+labels.domElement.style.position = 'absolute';
+labels.domElement.style.top = '0';
+labels.domElement.style.pointerEvents = 'none';
+view.append(labels.domElement);
+
+const scene = new THREE.Scene();
+scene.background = new THREE.Color(0x1b2330);
+scene.add(new THREE.HemisphereLight(0xdfe9f5, 0x2a3140, 1.6));
+const sun = new THREE.DirectionalLight(0xffffff, 1.8);
+sun.position.set(0.4, 1, 0.3);
+scene.add(sun);
+const camera = new THREE.PerspectiveCamera(55, window.innerWidth / window.innerHeight, 1, 5000);
+const cameras = new Cameras(camera, renderer.domElement);
+let chaseSlot = 0;
+
+const state = { hello: null, frame: null, frames: 0, connected: false, closed: false, trackLoaded: false, waiters: [] };
+const cars = new Map();    // slot -> CarObject
+const ghosts = [];         // per ghost replay: Map slot -> CarObject
+
+const socket = new WebSocket('ws://' + location.host + '/ws');
+const send = (msg) => { if (socket.readyState === WebSocket.OPEN) socket.send(JSON.stringify(msg)); };
+const panels = new Panels(send, (mode, slot) => { chaseSlot = slot; cameras.setMode(mode); redraw(); });
+
+async function loadTrack(h) {
+  const response = await fetch('/track.bin');
+  if (!response.ok) throw new Error('track.bin: HTTP ' + response.status);
+  scene.add(trackMesh(await response.arrayBuffer()));
+  h.track.gates.forEach((g, i) => scene.add(gateObject(g, i)));
+  cameras.fit(h.track.bounds);
+  state.trackLoaded = true;
+  redraw();
+}
+
+function onHello(h) {
+  state.hello = h;
+  panels.setHello(h);
+  for (const c of h.cars) {
+    const car = new CarObject(c.slot, c.name, h.car_radius_m, false);
+    cars.set(c.slot, car);
+    scene.add(car.group);
+  }
+  h.ghosts.forEach((g) => {
+    const m = new Map();
+    for (const c of g.cars) {
+      const car = new CarObject(c.slot, 'ghost ' + (g.index + 1) + ': ' + c.name, h.car_radius_m, true);
+      m.set(c.slot, car);
+      scene.add(car.group);
+    }
+    ghosts.push(m);
+  });
+  chaseSlot = h.cars.length ? h.cars[0].slot : 0;
+  loadTrack(h).catch((e) => panels.setConnection(String(e)));
+}
+
+// Cars not in a frame (removed from the race) are hidden.
+function place(objects, list) {
+  const present = new Set();
+  for (const c of list) {
+    const obj = objects.get(c.slot);
+    if (!obj) continue;
+    obj.update(c);
+    present.add(c.slot);
+  }
+  for (const [slot, obj] of objects) if (!present.has(slot)) obj.group.visible = false;
+}
+
+function onFrame(f) {
+  place(cars, f.cars);
+  f.ghosts.forEach((g) => { if (ghosts[g.index]) place(ghosts[g.index], g.cars); });
+  state.frame = f;
+  state.frames++;
+  panels.setFrame(f, { color: (slot) => '#' + carColor(slot).getHexString() });
+  state.waiters = state.waiters.filter((w) => !w(f));
+  redraw();
+}
+
+socket.addEventListener('open', () => { state.connected = true; panels.setConnection(''); });
+socket.addEventListener('close', (e) => {
+  state.connected = false;
+  state.closed = true;
+  panels.setConnection('disconnected (' + e.code + ')');
+});
+socket.addEventListener('message', (e) => {
+  const msg = JSON.parse(e.data);
+  if (msg.type === 'hello') onHello(msg);
+  else if (msg.type === 'frame') onFrame(msg);
+});
+
+window.addEventListener('resize', () => {
+  camera.aspect = window.innerWidth / window.innerHeight;
+  camera.updateProjectionMatrix();
+  renderer.setSize(window.innerWidth, window.innerHeight);
+  labels.setSize(window.innerWidth, window.innerHeight);
+  redraw();
+});
+
+// Draws only when something changed: a frame, the camera, the window.
+let dirty = true;
+const redraw = () => { dirty = true; };
+cameras.controls.addEventListener('change', redraw);
+renderer.setAnimationLoop(() => {
+  if (!dirty) return;
+  dirty = false;
+  cameras.follow(cars.get(chaseSlot));
+  renderer.render(scene, camera);
+  labels.render(scene, camera);
+});
+
+function shown(objects) {
+  return [...objects.values()].filter((o) => o.group.visible && o.seen).map((o) => ({
+    slot: o.slot, name: o.name, x: o.group.position.x, y: o.group.position.y, z: o.group.position.z,
+  }));
+}
+
+// The test hook: what the page shows, and the controls a user has.
+window.jetrace = {
+  state: () => ({
+    connected: state.connected, closed: state.closed, trackLoaded: state.trackLoaded, frames: state.frames,
+    tick: state.frame ? state.frame.tick : null, phase: state.frame ? state.frame.phase : null,
+    playing: state.frame ? state.frame.playing : false,
+    firstTick: state.hello ? state.hello.first_tick : null, lastTick: state.hello ? state.hello.last_tick : null,
+    cars: shown(cars), ghosts: ghosts.map(shown),
+    standings: state.frame ? state.frame.standings : [],
+  }),
+  // Resolves with the first frame at `tick` after asking for it.
+  seek: (tick) => new Promise((resolve) => {
+    state.waiters.push((f) => (f.tick === tick ? (resolve(f.tick), true) : false));
+    send({ type: 'seek', tick });
+  }),
+  play: () => send({ type: 'play' }),
+  pause: () => send({ type: 'pause' }),
+  speed: (value) => send({ type: 'speed', value }),
+  camera: (mode) => { cameras.setMode(mode); redraw(); },
+  // Sends `text` as it is (tests send malformed messages with it).
+  sendRaw: (text) => socket.send(text),
+};
