@@ -1,0 +1,111 @@
+#include "bench/track_load.hpp"
+
+#include "bench/common.hpp"
+#include "bench/landscape.hpp"
+#include "jetrace/jtrack.hpp"
+#include "jetrace/track_io.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <malloc.h>
+
+namespace jetrace::bench {
+namespace {
+
+// Resident memory of this process (unit: bytes), after returning freed heap
+// memory to the system.
+double resident_bytes() {
+    ::malloc_trim(0);
+    std::ifstream statm("/proc/self/statm");
+    double pages = 0, resident = 0;
+    statm >> pages >> resident;
+    return resident * 4096.0;
+}
+
+// The bytes a loaded track and its scene hold in their arrays.
+double counted_bytes(const Scene& sc) {
+    const Track& t = sc.track;
+    return static_cast<double>(sizeof(Scene) + t.name.capacity() + t.triangles.capacity() * sizeof(Triangle) +
+                               t.checkpoints.capacity() * sizeof(Checkpoint) + t.spawns.capacity() * sizeof(Pose) +
+                               sc.grid.memory_bytes());
+}
+
+// Median wall time of `repeats` load_track(path) (unit: ms); the last track in `out`.
+double load_ms(const std::string& path, int repeats, Track& out) {
+    std::vector<double> ms;
+    for (int r = 0; r < repeats; ++r) {
+        Track t;
+        std::string error;
+        const auto t0 = Clock::now();
+        if (!load_track(path, t, error)) throw std::runtime_error(error);
+        ms.push_back(ns_since(t0) / 1e6);
+        out = std::move(t);
+    }
+    return median(ms);
+}
+
+bool write_text(const std::string& path, const std::string& text) {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out << text;
+    out.close();
+    return static_cast<bool>(out);
+}
+
+}  // namespace
+
+int run_track_load(const TrackLoadOptions& o) {
+    const std::filesystem::path dir = o.dir.empty() ? std::filesystem::temp_directory_path() : o.dir;
+    const std::string stem = "jetrace-landscape-" + std::to_string(o.squares);
+    const std::string obj = (dir / (stem + ".obj")).string(), jtrack = (dir / (stem + ".jtrack")).string();
+    std::uint64_t identity = 0;
+    std::string error;
+    {
+        const Track t = landscape(o.squares);
+        identity = t.identity();
+        if (!write_text(obj, export_obj(t))) {
+            std::fprintf(stderr, "jetrace-bench: cannot write %s\n", obj.c_str());
+            return 1;
+        }
+        if (!write_jtrack_file(t, jtrack, error)) {
+            std::fprintf(stderr, "jetrace-bench: %s\n", error.c_str());
+            return 1;
+        }
+    }
+    const PhysicsSettings ps;
+    // Resident memory first, in a heap that has not yet held a parse.
+    const double rss0 = resident_bytes();
+    Track compiled;
+    const double jtrack_ms = load_ms(jtrack, o.repeats, compiled);
+    const auto g0 = Clock::now();
+    const Scene scene = Scene::make(std::move(compiled), ps);
+    const double grid_ms = ns_since(g0) / 1e6;
+    const double rss1 = resident_bytes();
+    const double n = static_cast<double>(scene.track.triangles.size());
+    Track parsed;
+    const double obj_ms = load_ms(obj, o.obj_repeats, parsed);
+    nlohmann::json j;
+    j["benchmark"] = "track-load";
+    j["track"] = scene.track.name;
+    j["triangles"] = scene.track.triangles.size();
+    j["obj_bytes"] = std::filesystem::file_size(obj);
+    j["jtrack_bytes"] = std::filesystem::file_size(jtrack);
+    j["obj_load_ms"] = obj_ms;
+    j["jtrack_load_ms"] = jtrack_ms;
+    j["speedup"] = obj_ms / jtrack_ms;
+    j["grid_build_ms"] = grid_ms;
+    j["identity_equal"] = scene.track.identity() == identity && parsed.identity() == identity;
+    j["triangle_struct_bytes"] = sizeof(Triangle);
+    j["track_bytes_per_triangle"] = static_cast<double>(scene.track.triangles.capacity() * sizeof(Triangle)) / n;
+    j["grid_bytes_per_triangle"] = static_cast<double>(scene.grid.memory_bytes()) / n;
+    j["grid_entries_per_triangle"] = static_cast<double>(scene.grid.entry_count()) / n;
+    j["counted_bytes_per_triangle"] = counted_bytes(scene) / n;
+    j["resident_bytes_per_triangle"] = (rss1 - rss0) / n;
+    std::printf("%s\n", j.dump().c_str());
+    std::filesystem::remove(obj);
+    std::filesystem::remove(jtrack);
+    return 0;
+}
+
+}  // namespace jetrace::bench
