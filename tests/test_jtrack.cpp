@@ -144,7 +144,9 @@ TEST(Jtrack, EveryTruncationIsRefused) {
     for (std::size_t n = 0; n < full.size(); n += (n < 256 ? 1 : 97)) {
         const std::string e = decode_error(Bytes(full.begin(), full.begin() + static_cast<std::ptrdiff_t>(n)));
         ASSERT_FALSE(e.empty()) << "prefix of " << n << " bytes decoded";
-        if (n >= 64) ASSERT_NE(e.find("truncated"), std::string::npos) << n << ": " << e;
+        if (n >= 64) {
+            ASSERT_NE(e.find("truncated"), std::string::npos) << n << ": " << e;
+        }
     }
     Bytes longer = full;
     longer.push_back(0);

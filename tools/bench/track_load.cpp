@@ -56,7 +56,7 @@ bool write_text(const std::string& path, const std::string& text) {
 }  // namespace
 
 int run_track_load(const TrackLoadOptions& o) {
-    const std::filesystem::path dir = o.dir.empty() ? std::filesystem::temp_directory_path() : o.dir;
+    const std::filesystem::path dir = o.dir.empty() ? std::filesystem::temp_directory_path() : std::filesystem::path(o.dir);
     const std::string stem = "jetrace-landscape-" + std::to_string(o.squares);
     const std::string obj = (dir / (stem + ".obj")).string(), jtrack = (dir / (stem + ".jtrack")).string();
     std::uint64_t identity = 0;
