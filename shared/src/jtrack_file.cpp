@@ -62,12 +62,11 @@ bool load_jtrack_file(const std::string& path, Track& out, std::string& error) {
     Mapping m;
     if (size > 0) {
         m.size = static_cast<std::size_t>(size);
-        m.data = ::mmap(nullptr, m.size, PROT_READ, MAP_PRIVATE, f.fd, 0);
+        m.data = ::mmap(nullptr, m.size, PROT_READ, MAP_PRIVATE | MAP_POPULATE, f.fd, 0);
         if (m.data == MAP_FAILED) {
             error = "cannot map track file '" + path + "': " + os_error();
             return false;
         }
-        ::madvise(m.data, m.size, MADV_SEQUENTIAL);
     }
     const std::span<const std::uint8_t> bytes(static_cast<const std::uint8_t*>(m.data == MAP_FAILED ? nullptr : m.data),
                                               m.size);

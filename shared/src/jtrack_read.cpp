@@ -2,8 +2,8 @@
 // checks: header size, magic, version, header checksum, every count against
 // its limit, the file size the counts imply against the header's and the
 // real one, the payload checksum, padding, then every value: vertices finite
-// and in range, indices below the vertex count, the name, and validate() on
-// the track (gates, spawns, kill height).
+// and in range, indices below the vertex count, the name, and the rules of
+// the track (validate_rules: gates, spawns, kill height).
 #include "jetrace/jtrack.hpp"
 
 #include "jetrace/replay/crc32c.hpp"
@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <sys/mman.h>
 
 namespace jetrace {
 namespace {
@@ -125,7 +126,18 @@ bool in_range(const Vec3& v) {
     return true;
 }
 
-// Reads the name, vertices and triangle indices into `out`. Empty if fine.
+// Asks for transparent huge pages under the not yet written storage of a
+// large array: a 2 M-triangle track's 352 MB then takes about 170 page
+// faults instead of 86,000. Advisory; ignored where not supported.
+void advise_huge_pages(const void* data, std::size_t bytes) {
+    constexpr std::uintptr_t kHuge = std::uintptr_t{2} << 20;
+    const auto begin = (reinterpret_cast<std::uintptr_t>(data) + kHuge - 1) & ~(kHuge - 1);
+    const auto end = (reinterpret_cast<std::uintptr_t>(data) + bytes) & ~(kHuge - 1);
+    if (end > begin) ::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+}
+
+// Reads the name, vertices and triangles into `out` (bounds as make_track
+// computes them). Empty if fine.
 std::string read_mesh(In& in, std::span<const std::uint8_t> b, const Header& h, Track& out) {
     out.name.assign(reinterpret_cast<const char*>(b.data() + in.at()), h.name);
     for (std::size_t i = 0; i < out.name.size(); ++i) {
@@ -142,16 +154,21 @@ std::string read_mesh(In& in, std::span<const std::uint8_t> b, const Header& h, 
             return "vertex " + std::to_string(i) + " has a coordinate that is not finite or exceeds 1e6 m";
         }
     }
-    std::vector<std::uint32_t> indices(3ull * h.triangles);
-    for (std::size_t k = 0; k < indices.size(); ++k) {
-        indices[k] = in.u32();
-        if (indices[k] >= h.vertices) {
-            return "triangle " + std::to_string(k / 3) + " uses vertex " + std::to_string(indices[k]) + " of " +
-                   std::to_string(h.vertices);
+    out.triangles.reserve(h.triangles);
+    advise_huge_pages(out.triangles.data(), h.triangles * sizeof(Triangle));
+    for (std::uint32_t t = 0; t < h.triangles; ++t) {
+        std::uint32_t corner[3];
+        for (std::uint32_t& k : corner) {
+            k = in.u32();
+            if (k >= h.vertices) {
+                return "triangle " + std::to_string(t) + " uses vertex " + std::to_string(k) + " of " +
+                       std::to_string(h.vertices);
+            }
         }
+        add_triangle(out, vertices[corner[0]], vertices[corner[1]], vertices[corner[2]]);
     }
     if (!in.align8()) return "triangle padding is not zero";
-    out = make_track(std::move(out.name), vertices, indices, {}, {}, h.kill_height_m);
+    out.kill_height_m = h.kill_height_m;
     return {};
 }
 
@@ -182,7 +199,8 @@ bool decode_jtrack(std::span<const std::uint8_t> bytes, Track& out, std::string&
     for (Pose& p : t.spawns) {
         for (Vec3* v : {&p.position, &p.forward, &p.up}) *v = in.vec3();
     }
-    if (error = validate(t); !error.empty()) {
+    // Every corner is a checked vertex: the rest of validate() remains.
+    if (error = validate_rules(t); !error.empty()) {
         error = "track does not validate: " + error;
         return false;
     }
