@@ -222,3 +222,22 @@ TEST(Jtrack, FileErrorsNameThePath) {
 }
 
 }  // namespace
+
+namespace {
+
+// The checksum the format uses, computed whole and continued piece by piece
+// over every split of a buffer (its 8-byte steps and its byte tail).
+TEST(Jtrack, Crc32cContinuesAcrossAnySplit) {
+    std::vector<std::uint8_t> b(67);
+    for (std::size_t i = 0; i < b.size(); ++i) b[i] = static_cast<std::uint8_t>(i * 37 + 11);
+    const std::uint32_t whole = jetrace::replay::crc32c(b);
+    std::uint32_t bytewise = 0;
+    for (std::uint8_t x : b) bytewise = jetrace::replay::crc32c(std::span<const std::uint8_t>(&x, 1), bytewise);
+    EXPECT_EQ(whole, bytewise);
+    for (std::size_t cut = 0; cut <= b.size(); ++cut) {
+        const std::span<const std::uint8_t> s(b);
+        EXPECT_EQ(jetrace::replay::crc32c(s.subspan(cut), jetrace::replay::crc32c(s.first(cut))), whole) << cut;
+    }
+}
+
+}  // namespace

@@ -156,8 +156,9 @@ int main(int argc, char** argv) {
     track_load->add_option("--squares", load_opts.squares, "landscape squares per side (2 n^2 triangles)")
         ->check(CLI::Range(2, 1414));
     track_load->add_option("--repeats", load_opts.repeats, ".jtrack loads; the median is reported")->check(CLI::Range(1, 50));
-    track_load->add_option("--obj-repeats", load_opts.obj_repeats, "OBJ loads; the median is reported")
+    track_load->add_option("--obj-repeats", load_opts.obj_repeats, "source (OBJ or --track) loads; the median is reported")
         ->check(CLI::Range(1, 50));
+    track_load->add_option("--track", load_opts.track, "a track file to measure instead of the landscape (.obj, .json)");
     track_load->add_option("--dir", load_opts.dir, "directory for the two files (default: the temporary directory)");
     jetrace::bench::DensityOptions density_opts;
     auto* density = app.add_subcommand("density", "ns per car-step on one landscape meshed at several densities");

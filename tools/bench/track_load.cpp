@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <malloc.h>
+#include <unistd.h>
 
 namespace jetrace::bench {
 namespace {
@@ -64,9 +65,11 @@ bool write_text(const std::string& path, const std::string& text) {
 
 int run_track_load(const TrackLoadOptions& o) {
     const std::filesystem::path dir = o.dir.empty() ? std::filesystem::temp_directory_path() : std::filesystem::path(o.dir);
-    const std::string stem = "jetrace-landscape-" + std::to_string(o.squares);
+    const std::string stem = "jetrace-landscape-" + std::to_string(o.squares) + "-" + std::to_string(::getpid());
     const std::string obj = (dir / (stem + ".obj")).string(), jtrack = (dir / (stem + ".jtrack")).string();
-    if (!write_text(obj, export_obj(landscape(o.squares)))) {
+    const bool own_source = o.track.empty();
+    const std::string source = own_source ? obj : o.track;
+    if (own_source && !write_text(obj, export_obj(landscape(o.squares)))) {
         std::fprintf(stderr, "jetrace-bench: cannot write %s\n", obj.c_str());
         return 1;
     }
@@ -75,7 +78,7 @@ int run_track_load(const TrackLoadOptions& o) {
     LoadTime obj_time;
     {
         Track parsed;
-        obj_time = time_loads(obj, o.obj_repeats, parsed);
+        obj_time = time_loads(source, o.obj_repeats, parsed);
         identity = parsed.identity();
         std::string error;
         if (!write_jtrack_file(parsed, jtrack, error)) {
@@ -95,10 +98,11 @@ int run_track_load(const TrackLoadOptions& o) {
     j["benchmark"] = "track-load";
     j["track"] = scene.track.name;
     j["triangles"] = scene.track.triangles.size();
-    j["obj_bytes"] = std::filesystem::file_size(obj);
+    j["source"] = own_source ? "landscape OBJ" : o.track;
+    j["source_bytes"] = std::filesystem::file_size(source);
     j["jtrack_bytes"] = std::filesystem::file_size(jtrack);
-    j["obj_load_ms"] = obj_time.wall_ms;
-    j["obj_load_cpu_ms"] = obj_time.cpu_ms;
+    j["source_load_ms"] = obj_time.wall_ms;
+    j["source_load_cpu_ms"] = obj_time.cpu_ms;
     j["jtrack_load_ms"] = jtrack_time.wall_ms;
     j["jtrack_load_cpu_ms"] = jtrack_time.cpu_ms;
     j["speedup"] = obj_time.wall_ms / jtrack_time.wall_ms;
@@ -112,7 +116,7 @@ int run_track_load(const TrackLoadOptions& o) {
     j["counted_bytes_per_triangle"] = counted_bytes(scene) / n;
     j["resident_bytes_per_triangle"] = (rss1 - rss0) / n;
     std::printf("%s\n", j.dump().c_str());
-    std::filesystem::remove(obj);
+    if (own_source) std::filesystem::remove(obj);
     std::filesystem::remove(jtrack);
     return 0;
 }

@@ -1,5 +1,5 @@
 // jetrace-bench track-load and density (docs/TRACKS.md, "Figures"):
-//   track-load  the landscape at one density written as OBJ and as .jtrack:
+//   track-load  the landscape at one density (or --track) as OBJ and as .jtrack:
 //               load time of each through load_track(), their ratio, the
 //               grid build, and the bytes per triangle of the loaded track
 //               and its scene (counted from the arrays, and as resident
@@ -19,8 +19,11 @@ struct TrackLoadOptions {
     int squares = 1024;
     /// Timed loads of the .jtrack file; the median is reported (unit: loads).
     int repeats = 5;
-    /// Timed loads of the OBJ file (unit: loads).
+    /// Timed loads of the OBJ file or --track (unit: loads).
     int obj_repeats = 1;
+    /// A track to load instead of the landscape (a path load_track reads:
+    /// OBJ, manifest); "" = the landscape, written as OBJ.
+    std::string track;
     /// Where the two files are written ("" = the temporary directory).
     std::string dir;
 };
