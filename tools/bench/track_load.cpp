@@ -99,7 +99,9 @@ int run_track_load(const TrackLoadOptions& o) {
     j["track"] = scene.track.name;
     j["triangles"] = scene.track.triangles.size();
     j["source"] = own_source ? "landscape OBJ" : o.track;
-    j["source_bytes"] = std::filesystem::file_size(source);
+    std::error_code ec;  // a built-in name has no file
+    const auto source_bytes = std::filesystem::file_size(source, ec);
+    j["source_bytes"] = ec ? 0 : source_bytes;
     j["jtrack_bytes"] = std::filesystem::file_size(jtrack);
     j["source_load_ms"] = obj_time.wall_ms;
     j["source_load_cpu_ms"] = obj_time.cpu_ms;
