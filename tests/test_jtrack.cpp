@@ -216,6 +216,10 @@ TEST(Jtrack, FileErrorsNameThePath) {
     std::ofstream(path, std::ios::binary) << "JTRACK\r\n";
     EXPECT_FALSE(jetrace::load_track(path, t, error));
     EXPECT_NE(error.find("shorter than the 64-byte"), std::string::npos) << error;
+    // A (sparse) file larger than any valid one is refused before it is mapped.
+    std::filesystem::resize_file(path, 400'000'000);
+    EXPECT_FALSE(jetrace::load_track(path, t, error));
+    EXPECT_NE(error.find("larger than any valid .jtrack"), std::string::npos) << error;
     EXPECT_FALSE(jetrace::write_jtrack_file(builtin("ring"), "/nonexistent/dir/x.jtrack", error));
     EXPECT_NE(error.find("cannot create"), std::string::npos) << error;
     std::filesystem::remove(path);

@@ -34,11 +34,12 @@ struct Mapping {
 
 std::string os_error() { return std::strerror(errno); }
 
-// The largest file worth mapping: a header plus kMaxTrackTriangles with three
-// vertices each, the name and every gate and spawn.
-constexpr std::uint64_t kMaxJtrackBytes =
-    kJtrackHeaderBytes + kJtrackMaxNameBytes + 36ull * kMaxTrackTriangles + 12ull * kMaxTrackTriangles + 8 +
-    184ull * kJtrackMaxGates + 72ull * kJtrackMaxSpawns;
+// The largest valid file (the layout's size with every count at its limit:
+// three unshared vertices of 24 bytes and three 4-byte indices a triangle),
+// so that nothing larger is mapped.
+constexpr std::uint64_t kMaxJtrackBytes = kJtrackHeaderBytes + kJtrackMaxNameBytes + 72ull * kMaxTrackTriangles +
+                                          12ull * kMaxTrackTriangles + 8 + 184ull * kJtrackMaxGates +
+                                          72ull * kJtrackMaxSpawns;
 
 }  // namespace
 
