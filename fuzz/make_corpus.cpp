@@ -6,6 +6,7 @@
 // not named gen_* (crash inputs kept as regressions) are left alone.
 #include "jetrace/builtin_tracks.hpp"
 #include "jetrace/driver_ai.hpp"
+#include "jetrace/jtrack.hpp"
 #include "jetrace/offline_race.hpp"
 #include "jetrace/proto/messages.hpp"
 #include "jetrace/proto/world_codec.hpp"
@@ -204,7 +205,12 @@ void tracks() {
     p.wall = false;
     p.finish_line_m = 50;
     p.spawn_slots = 2;
-    put_text("obj_import", "tiny_oval.obj", jetrace::export_obj(jetrace::make_oval(p)));
+    const jetrace::Track tiny = jetrace::make_oval(p);
+    put_text("obj_import", "tiny_oval.obj", jetrace::export_obj(tiny));
+    // The same oval compiled, whole and cut inside its vertices.
+    const Bytes compiled = jetrace::encode_jtrack(tiny);
+    put("jtrack", "tiny_oval.jtrack", compiled);
+    put("jtrack", "tiny_oval_cut.jtrack", Bytes(compiled.begin(), compiled.begin() + 200));
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 //                built with Bullet).
 #include "bench/common.hpp"
 #include "bench/replay_cost.hpp"
+#include "bench/track_load.hpp"
 #include "jetrace/cli/finite.hpp"
 #include "bench/study.hpp"
 #include "jetrace/builtin_tracks.hpp"
@@ -150,7 +151,26 @@ int main(int argc, char** argv) {
     auto* bullet = app.add_subcommand("bullet", "the same scenarios in Bullet and in jetrace, in one run: JSON lines");
     jetrace::bench::add_bullet_options(*bullet, bullet_opts);
 #endif
+    jetrace::bench::TrackLoadOptions load_opts;
+    auto* track_load = app.add_subcommand("track-load", "OBJ against .jtrack load time, and bytes per loaded triangle");
+    track_load->add_option("--squares", load_opts.squares, "landscape squares per side (2 n^2 triangles)")
+        ->check(CLI::Range(2, 1414));
+    track_load->add_option("--repeats", load_opts.repeats, ".jtrack loads; the median is reported")->check(CLI::Range(1, 50));
+    track_load->add_option("--obj-repeats", load_opts.obj_repeats, "source (OBJ or --track) loads; the median is reported")
+        ->check(CLI::Range(1, 50));
+    track_load->add_option("--track", load_opts.track, "a track file to measure instead of the landscape (.obj, .json)");
+    track_load->add_option("--dir", load_opts.dir, "directory for the two files (default: the temporary directory)");
+    jetrace::bench::DensityOptions density_opts;
+    auto* density = app.add_subcommand("density", "ns per car-step on one landscape meshed at several densities");
+    density->add_option("--squares", density_opts.squares, "squares per side of each mesh (2 n^2 triangles)")
+        ->check(CLI::Range(2, 1414));
+    density->add_option("--seconds", density_opts.seconds, "simulated seconds per timed race")
+        ->check(jetrace::cli::finite() & CLI::Range(0.1, 600.0));
+    density->add_option("--repeats", density_opts.repeats, "timed races per density; the median is reported")
+        ->check(CLI::Range(1, 50));
     CLI11_PARSE(app, argc, argv);
+    if (track_load->parsed()) return jetrace::bench::run_track_load(load_opts);
+    if (density->parsed()) return jetrace::bench::run_density(density_opts);
     if (seed->parsed()) return run_seed(frames, repeats, !no_grid_off);
     if (integrators->parsed()) return run_integrators();
     if (study->parsed()) return jetrace::bench::run_study(study_opts);

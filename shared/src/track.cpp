@@ -55,21 +55,22 @@ std::uint64_t Track::identity() const {
     return h.value();
 }
 
+void add_triangle(Track& t, const Vec3& a, const Vec3& b, const Vec3& c) {
+    t.triangles.push_back(Triangle::make(a, b, c));
+    const Triangle& tri = t.triangles.back();
+    if (t.triangles.size() == 1) t.bounds = tri.bounds();
+    t.bounds.expand(tri.a);
+    t.bounds.expand(tri.b);
+    t.bounds.expand(tri.c);
+}
+
 Track make_track(std::string name, const std::vector<Vec3>& vertices, const std::vector<std::uint32_t>& indices,
                  std::vector<Checkpoint> checkpoints, std::vector<Pose> spawns, double kill_height_m) {
     Track t;
     t.name = std::move(name);
     t.triangles.reserve(indices.size() / 3);
     for (std::size_t i = 0; i + 2 < indices.size(); i += 3) {
-        t.triangles.push_back(Triangle::make(vertices[indices[i]], vertices[indices[i + 1]], vertices[indices[i + 2]]));
-    }
-    if (!t.triangles.empty()) {
-        t.bounds = t.triangles[0].bounds();
-        for (const Triangle& tri : t.triangles) {
-            t.bounds.expand(tri.a);
-            t.bounds.expand(tri.b);
-            t.bounds.expand(tri.c);
-        }
+        add_triangle(t, vertices[indices[i]], vertices[indices[i + 1]], vertices[indices[i + 2]]);
     }
     t.checkpoints = std::move(checkpoints);
     t.spawns = std::move(spawns);
@@ -108,6 +109,11 @@ std::string validate(const Track& track) {
             return err.str();
         }
     }
+    return validate_rules(track);
+}
+
+std::string validate_rules(const Track& track) {
+    std::ostringstream err;
     if (track.checkpoints.size() < 2) return "track needs at least 2 checkpoints (start/finish and one more)";
     for (std::size_t i = 0; i < track.checkpoints.size(); ++i) {
         const Checkpoint& c = track.checkpoints[i];

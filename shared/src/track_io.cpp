@@ -1,6 +1,7 @@
 #include "jetrace/track_io.hpp"
 
 #include "jetrace/builtin_tracks.hpp"
+#include "jetrace/jtrack.hpp"
 
 #include <filesystem>
 #include <fstream>
@@ -64,6 +65,12 @@ bool load_track_report(const std::string& spec, Track& out, TrackReport& report,
         plain_report(out, "builtin", report);
         return true;
     }
+    // A compiled track by its extension or, under any name, by its magic.
+    if (ends_with(spec, ".jtrack") || file_is_jtrack(spec)) {
+        if (!load_jtrack_file(spec, out, error)) return false;
+        plain_report(out, "jtrack", report);
+        return true;
+    }
     if (ends_with(spec, ".obj")) {
         if (!import_obj_file(spec, out, error)) return false;
         plain_report(out, "obj", report);
@@ -85,7 +92,7 @@ bool load_track_report(const std::string& spec, Track& out, TrackReport& report,
     error = "unknown track '" + spec + "': use a built-in name (";
     const auto names = builtin_track_names();
     for (std::size_t i = 0; i < names.size(); ++i) error += (i ? ", " : "") + names[i];
-    error += "), a path ending in .obj or a track manifest (.json)";
+    error += "), a path ending in .obj, a track manifest (.json) or a compiled track (.jtrack)";
     return false;
 }
 

@@ -1,8 +1,10 @@
 // jetrace-track: what a track file makes, before racing on it.
 //   jetrace-track inspect TRACK [--json]      triangles, degenerate dropped, bounds, gates, spawns, route, warnings
 //   jetrace-track render TRACK --svg OUT.svg  a top-down picture: mesh, route, numbered gates, spawns
-// TRACK: a built-in name, an .obj file, a .gltf/.glb mesh or a track manifest
-// (.json). docs/TRACKS.md, "jetrace-track".
+//   jetrace-track build TRACK --out OUT.jtrack  the compiled track (read back and checked: same identity)
+// TRACK: a built-in name, an .obj file, a .gltf/.glb mesh, a track manifest
+// (.json) or a compiled track (.jtrack). docs/TRACKS.md, "jetrace-track".
+#include "jetrace/jtrack.hpp"
 #include "jetrace/track_io.hpp"
 #include "track_svg.hpp"
 
@@ -11,6 +13,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 
 namespace {
@@ -19,9 +22,10 @@ using nlohmann::json;
 
 json vec(const jetrace::Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
 
+std::string hex_identity(const jetrace::Track& t);
+
 json summary(const jetrace::Track& t, const jetrace::TrackReport& r, double load_ms) {
-    char id[17];
-    std::snprintf(id, sizeof id, "%016llx", static_cast<unsigned long long>(t.identity()));
+    const std::string id = hex_identity(t);
     return {{"name", t.name},
             {"format", r.format},
             {"triangles", t.triangles.size()},
@@ -68,10 +72,37 @@ bool load(const std::string& spec, jetrace::Track& t, jetrace::TrackReport& r, d
     return ok;
 }
 
+std::string hex_identity(const jetrace::Track& t) {
+    char id[17];
+    std::snprintf(id, sizeof id, "%016llx", static_cast<unsigned long long>(t.identity()));
+    return id;
+}
+
+// Loads a raceable track, writes it compiled, reads the file back and checks
+// that it is the same track (identity). One JSON line on success.
+int build(const std::string& spec, const std::string& out_path) {
+    jetrace::Track track;
+    std::string error;
+    if (!jetrace::load_track(spec, track, error)) return fail(error);
+    if (const std::string bad = jetrace::validate(track); !bad.empty()) return fail(spec + ": " + bad);
+    if (!jetrace::write_jtrack_file(track, out_path, error)) return fail(error);
+    jetrace::Track back;
+    if (!jetrace::load_jtrack_file(out_path, back, error)) return fail("reading back: " + error);
+    if (back.identity() != track.identity()) return fail(out_path + ": read back with a different identity");
+    std::error_code ec;
+    const auto bytes = std::filesystem::file_size(out_path, ec);
+    const json line = {{"track", track.name},   {"out", out_path},
+                       {"triangles", track.triangles.size()}, {"gates", track.checkpoints.size()},
+                       {"spawns", track.spawns.size()},       {"bytes", ec ? 0 : bytes},
+                       {"identity", hex_identity(track)}};
+    std::printf("%s\n", line.dump().c_str());
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"jetrace-track: inspect and render tracks (built-in, OBJ, glTF or a track manifest)"};
+    CLI::App app{"jetrace-track: inspect, render and compile tracks (built-in, OBJ, glTF, a track manifest or .jtrack)"};
     app.require_subcommand(1);
     std::string spec;
     bool as_json = false;
@@ -84,7 +115,12 @@ int main(int argc, char** argv) {
     render->add_option("track", spec, "built-in name, .obj, .gltf, .glb or manifest (.json)")->required();
     render->add_option("--svg", svg_path, "the SVG file to write")->required();
     render->add_option("--width", width_px, "picture width in pixels (200..8000)")->check(CLI::Range(200, 8000));
+    auto* compile = app.add_subcommand("build", "compile a raceable track into a .jtrack file (docs/TRACKS.md)");
+    std::string out_path;
+    compile->add_option("track", spec, "built-in name, .obj, manifest (.json) or .jtrack")->required();
+    compile->add_option("--out", out_path, "the .jtrack file to write")->required();
     CLI11_PARSE(app, argc, argv);
+    if (*compile) return build(spec, out_path);
 
     jetrace::Track track;
     jetrace::TrackReport report;

@@ -69,6 +69,11 @@ struct Track {
 Track make_track(std::string name, const std::vector<Vec3>& vertices, const std::vector<std::uint32_t>& indices,
                  std::vector<Checkpoint> checkpoints, std::vector<Pose> spawns, double kill_height_m);
 
+/// Appends Triangle::make(a, b, c) to `t` and grows its bounds (the first
+/// triangle sets them): what make_track does per triangle, in the same order
+/// of operations, so the bounds come out the same bit for bit.
+void add_triangle(Track& t, const Vec3& a, const Vec3& b, const Vec3& c);
+
 /// Largest number of triangles a track may have.
 inline constexpr std::size_t kMaxTrackTriangles = 4'000'000;
 /// Largest |coordinate| accepted in a track (unit: m).
@@ -76,5 +81,9 @@ inline constexpr double kMaxTrackCoordinate_m = 1.0e6;
 
 /// Checks a track read from outside: empty string if valid, else the problem.
 std::string validate(const Track& track);
+
+/// The part of validate() after the triangles: gates, spawns, kill height
+/// (for a reader that has checked every corner already).
+std::string validate_rules(const Track& track);
 
 }  // namespace jetrace

@@ -38,7 +38,8 @@ bool import_obj_mesh(std::string_view text, ImportedMesh& out, std::string& erro
 bool import_mesh_file(const std::string& path, ImportedMesh& out, std::string& error);
 
 /// `spec` is a built-in track name, a path to an .obj file (the convention
-/// above) or to a track manifest (.json). A bare .gltf/.glb is refused: it
+/// above), to a track manifest (.json) or to a compiled track (.jtrack, or
+/// any file starting with its magic; jtrack.hpp). A bare .gltf/.glb is refused: it
 /// has no gates, so it needs a manifest.
 bool load_track(const std::string& spec, Track& out, std::string& error);
 bool load_track_report(const std::string& spec, Track& out, TrackReport& report, std::string& error);

@@ -1,0 +1,17 @@
+// A rolling landscape for the track benchmarks: one height function over a
+// 1,024 m square, meshed as n x n squares of two triangles (n = 128, 256,
+// 512, 1024 give 32,768 to 2,097,152 triangles of the same surface), with a
+// lap of 16 gates on a 350 m circle and 8 spawn slots behind gate 0.
+#pragma once
+
+#include "jetrace/track.hpp"
+
+namespace jetrace::bench {
+
+/// Side of the landscape's square (unit: m).
+inline constexpr double kLandscapeSide_m = 1024.0;
+
+/// The landscape meshed with `n` squares per side (2 n^2 triangles), n >= 2.
+Track landscape(int n);
+
+}  // namespace jetrace::bench
