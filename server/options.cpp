@@ -141,6 +141,12 @@ int parse_host_options(int argc, char** argv, HostOptions& o) {
     // run in real time: on the server's scaled clock it is that many times
     // longer.
     o.cfg.hello_timeout_s = o.hello_timeout_s * o.time_scale;
+    if (!ServerLimits::hello_timeout_s.contains(o.cfg.hello_timeout_s)) {
+        std::fprintf(stderr, "jetrace-server: --hello-timeout %g times --time-scale %g is %g s of the server's clock: "
+                     "it must be in %s\n", o.hello_timeout_s, o.time_scale, o.cfg.hello_timeout_s,
+                     ServerLimits::hello_timeout_s.text().c_str());
+        return 2;
+    }
     jetrace::cli::log_to_stderr("server", o.log_level);
     if (!apply_hosting(hosting, o.hosting)) return 2;
     return -1;

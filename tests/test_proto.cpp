@@ -258,6 +258,14 @@ TEST(ProtoMessages, RejectsOutOfRangeFields) {
         fb::FlatBufferBuilder b2;
         EXPECT_FALSE(decodes(finish(b2, fb::Offset<w::Snapshot>(b2.EndTable(b2.StartTable())), "JSNP"), &why));
     }
+    {  // a Snapshot payload too long to re-encode within kMaxMessageBytes
+        fb::FlatBufferBuilder b;
+        const std::vector<std::uint8_t> big(jp::kMaxSnapshotPayloadBytes + 1, 0);
+        const auto bytes = finish(b, w::CreateSnapshot(b, b.CreateVector(big)), "JSNP");
+        ASSERT_LE(bytes.size(), jp::kMaxMessageBytes);
+        EXPECT_FALSE(decodes(bytes, &why));
+        EXPECT_NE(why.find("Snapshot.payload: too long"), std::string::npos) << why;
+    }
     auto welcome = [](std::uint8_t slot, std::uint8_t max, std::uint16_t rate, std::uint16_t snap) {
         fb::FlatBufferBuilder b;
         auto name = b.CreateString("ring");
@@ -516,7 +524,8 @@ TEST(CloseCodes, NamesAndRanges) {
     for (CloseCode c : {CloseCode::left, CloseCode::server_shutdown, CloseCode::replaced, CloseCode::lobby_cancelled})
         EXPECT_EQ(jp::close_class(u(c)), CloseClass::normal) << u(c);
     for (CloseCode c : {CloseCode::refused_version, CloseCode::refused_token, CloseCode::refused_clock,
-                        CloseCode::refused_full, CloseCode::refused_reconnect, CloseCode::refused_draining})
+                        CloseCode::refused_full, CloseCode::refused_reconnect, CloseCode::refused_draining,
+                        CloseCode::refused_unallocated})
         EXPECT_EQ(jp::close_class(u(c)), CloseClass::refused) << u(c);
     for (CloseCode c : {CloseCode::no_hello, CloseCode::malformed, CloseCode::protocol_violation})
         EXPECT_EQ(jp::close_class(u(c)), CloseClass::remote_fault) << u(c);

@@ -308,6 +308,7 @@ bool decode_body(const w::InputBatch& t, Message& out, Check& c) {
 bool decode_body(const w::Snapshot& t, Message& out, Check& c) {
     const auto* payload = t.payload();
     if (!payload) return c.fail("Snapshot.payload", "missing");
+    if (payload->size() > kMaxSnapshotPayloadBytes) return c.fail("Snapshot.payload", "too long");
     Snapshot m;
     if (!packed::unpack({payload->data(), payload->size()}, m, c.error())) return false;
     out = std::move(m);

@@ -21,7 +21,8 @@ void UnallocatedGate::service(net::Transport& transport, std::uint64_t now_ms) {
             if (proto::decode(e.data, m, error) && std::holds_alternative<proto::Hello>(m)) {
                 ++refused_;
                 spdlog::warn("refusing client {} ({}): {}", e.peer, std::get<proto::Hello>(m).name, kUnallocatedReason);
-                transport.send(e.peer, net::Channel::reliable, proto::encode(proto::Refuse{kUnallocatedReason}));
+                transport.send(e.peer, net::Channel::reliable, proto::encode(proto::Refuse{
+                    kUnallocatedReason, static_cast<std::uint16_t>(proto::CloseCode::refused_unallocated)}));
             }
             transport.disconnect(e.peer);
             connected_ms_.erase(e.peer);

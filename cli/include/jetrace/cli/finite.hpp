@@ -14,6 +14,8 @@ inline CLI::Validator finite() {
         [](std::string& s) -> std::string {
             try {
                 if (std::isfinite(std::stod(s))) return "";
+            } catch (const std::out_of_range&) {
+                return "Value " + s + " is not a finite number";  // beyond a double, or below its smallest
             } catch (const std::exception&) {
                 return "";  // not a number at all: the option's own conversion says so
             }

@@ -17,6 +17,8 @@ inline CLI::Validator in_range(const ValueRange& r) {
             try {
                 std::size_t used = 0;
                 v = std::stod(s, &used);
+            } catch (const std::out_of_range&) {
+                return "Value " + s + " is out of the range of a double";
             } catch (const std::exception&) {
                 return "";  // not a number at all: the option's own conversion says so
             }

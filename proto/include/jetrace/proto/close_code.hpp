@@ -30,6 +30,8 @@ enum class CloseCode : std::uint16_t {
     refused_full = 2003,
     refused_reconnect = 2004,
     refused_draining = 2005,
+    /// A fleet server that Agones has not allocated to a race yet.
+    refused_unallocated = 2006,
 
     // 4000-4999: the peer broke the protocol or went quiet.
     /// No Hello within the hello timeout: nothing was admitted, the client

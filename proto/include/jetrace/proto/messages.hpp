@@ -21,6 +21,12 @@ namespace jetrace::proto {
 inline constexpr std::uint16_t kProtocolVersion = 4;
 /// Larger datagrams are rejected before parsing (unit: bytes).
 inline constexpr std::size_t kMaxMessageBytes = 8192;
+/// Longest Snapshot payload (unit: bytes): room left for the flatbuffers
+/// framing FlatBufferBuilder adds around it (root offset, identifier,
+/// vtable, table, vector length, alignment: under 64 bytes), so that any
+/// Snapshot that decodes also re-encodes within kMaxMessageBytes. A
+/// hand-made buffer can frame a payload more tightly than the builder does.
+inline constexpr std::size_t kMaxSnapshotPayloadBytes = kMaxMessageBytes - 64;
 /// Most inputs one InputBatch may carry.
 inline constexpr std::size_t kMaxInputsPerBatch = 64;
 /// Longest player name (unit: bytes of UTF-8); longer names are refused.

@@ -83,7 +83,8 @@ struct ServerConfig {
 
 /// The allowed values of ServerConfig's fields: validate() checks them and
 /// jetrace-server's options offer exactly them (min_players is also at most
-/// max_players; the snapshot rate must divide the tick rate).
+/// max_players; the snapshot rate must divide the tick rate; --hello-timeout
+/// is given in real time, and its value times --time-scale is checked).
 struct ServerLimits {
     static constexpr ValueRange laps = closed(1, 1000);
     static constexpr ValueRange players = closed(1, proto::kMaxSlots);
@@ -93,7 +94,7 @@ struct ServerLimits {
     static constexpr ValueRange finish_window_s = above(0, 3600);
     static constexpr ValueRange max_race_s = above(0, 86400);
     static constexpr ValueRange max_input_lead_ticks = closed(1, InputQueue::kMaxLeadTicks);
-    static constexpr ValueRange hello_timeout_s = above(0, 86400);
+    static constexpr ValueRange hello_timeout_s = closed(0.001, 86400);
     static constexpr ValueRange lobby_timeout_s = closed(0, 86400);
     static constexpr ValueRange lobby_log_interval_s = above(0, 86400);
     static constexpr ValueRange reconnect_grace_s = closed(0, 3600);
