@@ -97,6 +97,7 @@ jq -s -c --argjson bots "$bots" --argjson servers "$servers" --arg track "$track
     reconnects: map(.reconnects) | add,
     replayed_ticks_per_bot: mean(.replayed_ticks // 0),
     skipped_replays_per_bot: mean(.skipped_replays // 0),
+    reused_car_steps_per_bot: mean(.reused_car_steps // 0),
     snapshots_per_bot: mean(.snapshots),
     bot_wall_s: $wall,
     bot_cores: (if $wall > 0 then $cpu / $wall else 0 end),

@@ -43,6 +43,28 @@ bool same_car(const CarState& a, const CarState& b) {
     return same;
 }
 
+// Marks near[i] for every active car of `w` with another active car closer
+// than `reach` (sorted by x, then a sweep: no pair test beyond reach in x).
+void mark_near(const WorldState& w, double reach, std::vector<std::uint32_t>& order, std::vector<char>& near) {
+    order.clear();
+    for (std::uint32_t i = 0; i < w.cars.size(); ++i) {
+        if (w.cars[i].active) order.push_back(i);
+    }
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+        const double xa = w.cars[a].position.x(), xb = w.cars[b].position.x();
+        return xa < xb || (xa == xb && a < b);
+    });
+    const double reach2 = reach * reach;
+    for (std::size_t a = 0; a < order.size(); ++a) {
+        const Vec3& pa = w.cars[order[a]].position;
+        for (std::size_t b = a + 1; b < order.size(); ++b) {
+            const Vec3& pb = w.cars[order[b]].position;
+            if (pb.x() - pa.x() >= reach) break;
+            if ((pb - pa).squaredNorm() < reach2) near[order[a]] = near[order[b]] = 1;
+        }
+    }
+}
+
 }  // namespace
 
 bool same_world(const WorldState& a, const WorldState& b) {
@@ -150,13 +172,65 @@ Predictor::Outcome Predictor::reconcile(const Scene& scene, const proto::WorldSn
         return o;
     }
     replay_ = from == S ? snap.state : frames_[from % kFrames].world;
-    for (std::uint32_t t = from; t < target; ++t) {
-        fill_inputs(snap, own, t, inputs_);
-        step_kept(scene, replay_, inputs_, own);
-    }
+    for (std::uint32_t t = from; t < target; ++t) replay_tick(scene, snap, own, t, target);
     std::swap(world_, replay_);  // both keep their storage
     work_.replayed_ticks += target - from;
     return o;
 }
 
-}  // namespace jetrace::client
+bool Predictor::find_reusable(const Scene& scene, const Frame& kept) {
+    const std::size_t n = replay_.cars.size();
+    reuse_.assign(n, 0);
+    if (kept.world.cars.size() != n || kept.inputs.size() != n) return false;
+    // Reach: both cars' travel in the tick, generously, plus the car-car
+    // push-outs of a pile (each at most half an overlap), on top of contact.
+    const std::array<const WorldState*, 2> worlds{&replay_, &kept.world};
+    double v_max = 0;
+    for (const WorldState* w : worlds) {
+        for (const CarState& c : w->cars) {
+            if (c.active) v_max = std::max(v_max, c.velocity.norm());
+        }
+    }
+    const double r = scene.physics.car_radius_m;
+    const double reach = 4.0 * r + 8.0 * v_max * scene.physics.dt_s() + 1.0;
+    near_.assign(n, 0);
+    for (const WorldState* w : worlds) mark_near(*w, reach, order_, near_);
+    bool any = false;
+    for (std::size_t i = 0; i < n; ++i) {
+        const CarState& c = replay_.cars[i];
+        reuse_[i] = c.active && !near_[i] && inputs_[i] == kept.inputs[i] && same_car(c, kept.world.cars[i]);
+        any = any || reuse_[i];
+    }
+    return any;
+}
+
+void Predictor::replay_tick(const Scene& scene, const proto::WorldSnapshot& snap, std::size_t own, std::uint32_t t,
+                            std::uint32_t target) {
+    fill_inputs(snap, own, t, inputs_);
+    const bool kept_next = t + 1 == target || holds(t + 1);
+    if (!holds(t) || !kept_next || !find_reusable(scene, frames_[t % kFrames])) {
+        step_kept(scene, replay_, inputs_, own);
+        return;
+    }
+    // The kept next tick (read before step_kept overwrites tick t's frame;
+    // tick t + 1's is overwritten only by the next replayed tick).
+    const WorldState& next = t + 1 == target ? world_ : frames_[(t + 1) % kFrames].world;
+    const std::size_t n = replay_.cars.size();
+    std::uint64_t reused = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (reuse_[i]) replay_.cars[i].active = false;  // the step skips it
+    }
+    // step_kept keeps tick t's frame with the reused cars inactive: restore them.
+    step_kept(scene, replay_, inputs_, own);
+    Frame& f = frames_[t % kFrames];
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!reuse_[i]) continue;
+        f.world.cars[i].active = true;
+        replay_.cars[i] = next.cars[i];
+        ++reused;
+    }
+    if (reuse_[own]) my_states_[t % kRing] = f.world.cars[own];
+    work_.reused_car_steps += reused;
+}
+
+}  // namespace jetrace::client}  // namespace jetrace::client

@@ -274,6 +274,7 @@ void RaceClient::reconcile(const proto::WorldSnapshot& snap) {
         predictor_.reconcile(*scene_, snap, own, !spectating_ && snap.state.cars[own].active);
     stats_.replayed_ticks = predictor_.work().replayed_ticks;
     stats_.skipped_replays = predictor_.work().skipped_replays;
+    stats_.reused_car_steps = predictor_.work().reused_car_steps;
     if (o.resynced) {
         // Behind the server: the clock catches up.
         ++stats_.clock_resyncs;

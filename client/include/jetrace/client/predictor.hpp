@@ -11,6 +11,12 @@
 // tick whose inputs the snapshot now knows better, or is skipped. The world
 // so reached is the one a full replay from the snapshot gives.
 //
+// A replayed tick steps only the cars that can end it elsewhere than the
+// kept prediction: a car whose state and input are the kept ones, and which
+// is far from every other car in both worlds (no car-car contact can reach
+// it within the tick), ends the tick where the kept next tick has it, since
+// every phase of the step but the car-car one is per car.
+//
 // A thin predictor (thin = true) never steps: its world is the newest
 // snapshot's, its tick runs on with the clock, and it keeps only the own
 // inputs, for sending.
@@ -42,6 +48,8 @@ public:
     struct Work {
         std::uint64_t replayed_ticks = 0;
         std::uint64_t skipped_replays = 0;
+        /// Car-steps of the replayed ticks taken from the kept prediction.
+        std::uint64_t reused_car_steps = 0;
     };
 
     explicit Predictor(bool thin = false) : thin_(thin) {}
@@ -88,6 +96,12 @@ private:
     std::uint32_t first_stale_tick(const proto::WorldSnapshot& snap, std::size_t own, std::uint32_t target);
     bool holds(std::uint32_t t) const { return frames_[t % kFrames].tick == t; }
     void reconcile_thin(const proto::WorldSnapshot& snap, Outcome& o);
+    /// Steps replay_ through tick t (< target), reusing the kept next tick
+    /// for the cars it can (see the file comment).
+    void replay_tick(const Scene& scene, const proto::WorldSnapshot& snap, std::size_t own, std::uint32_t t,
+                     std::uint32_t target);
+    /// Marks in reuse_ the cars of replay_ that tick t need not step.
+    bool find_reusable(const Scene& scene, const Frame& kept);
 
     bool thin_ = false;
     WorldState world_;
@@ -99,6 +113,9 @@ private:
     std::array<std::uint32_t, kRing> my_state_ticks_{};
     std::array<Frame, kFrames> frames_{};
     std::vector<Input> inputs_;  // of the tick being stepped
+    std::vector<char> reuse_;  // per car: taken from the kept next tick
+    std::vector<char> near_;  // per car: another car within reach
+    std::vector<std::uint32_t> order_;  // cars by x (the reach test)
     Work work_;
 };
 

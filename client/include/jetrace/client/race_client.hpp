@@ -84,6 +84,9 @@ struct ClientStats {
     std::uint64_t replayed_ticks = 0;
     /// Reconciliations that found the prediction right and stepped nothing.
     std::uint64_t skipped_replays = 0;
+    /// Car-steps of replayed ticks taken from the prediction instead (cars
+    /// far from the others, with the inputs predicted).
+    std::uint64_t reused_car_steps = 0;
 };
 
 /// Gives the input for the client's own car for the next tick.
