@@ -63,7 +63,7 @@ for i in $(seq 1 "$servers"); do
   /usr/bin/time -f '%U %S %e' -o "$out/server$i.time" \
     "$server" --bind 127.0.0.1 --port 0 --track "$track" --laps "$laps" \
     --min-players "$per_server" --max-players "$per_server" --races 1 --time-scale "$scale" \
-    --log-level warn >"$out/server$i.log" 2>&1 &
+    --pre-hello-limit 0 --log-level warn >"$out/server$i.log" 2>&1 &
   pids+=($!)
   port="$(server_port "$out/server$i.log")"
   connects+=(--connect "127.0.0.1:$port")
@@ -73,8 +73,18 @@ rc=0
 /usr/bin/time -f '%U %S %e' -o "$out/bot.time" \
   "$bot" "${connects[@]}" --count "$bots" --time-scale "$scale" $thin \
   --max-seconds "$(( (laps * 120 + 120) ))" >"$out/bots.json" 2>"$out/bots.err" || rc=$?
+# A server whose bots are gone ends its race and exits; one still waiting
+# for players after 30 s never got them all (see bots.err).
+for _ in $(seq 1 300); do
+  alive=0
+  for p in "${pids[@]}"; do kill -0 "$p" 2>/dev/null && alive=1; done
+  [ "$alive" = 0 ] && break
+  sleep 0.1
+done
 for i in $(seq 1 "$servers"); do
-  wait "${pids[$((i - 1))]}" || { echo "load.sh: server $i failed:" >&2; cat "$out/server$i.log" >&2; exit 1; }
+  p="${pids[$((i - 1))]}"
+  kill -0 "$p" 2>/dev/null && { echo "load.sh: server $i still running after its bots left (exit $rc):" >&2; tail -5 "$out/bots.err" >&2; exit 1; }
+  wait "$p" || { echo "load.sh: server $i failed:" >&2; cat "$out/server$i.log" >&2; exit 1; }
 done
 pids=()
 [ -s "$out/bots.json" ] || { echo "load.sh: the bots printed nothing (exit $rc):" >&2; cat "$out/bots.err" >&2; exit 1; }
