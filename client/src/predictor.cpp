@@ -43,9 +43,16 @@ bool same_car(const CarState& a, const CarState& b) {
     return same;
 }
 
-// Marks near[i] for every active car of `w` with another active car closer
-// than `reach` (sorted by x, then a sweep: no pair test beyond reach in x).
-void mark_near(const WorldState& w, double reach, std::vector<std::uint32_t>& order, std::vector<char>& near) {
+std::uint32_t root(std::vector<std::uint32_t>& parent, std::uint32_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+}
+
+// Joins in `parent` (a union-find forest) every two active cars of `w`
+// closer than `reach` (sorted by x, then a sweep: no pair test beyond reach
+// in x).
+void join_near(const WorldState& w, double reach, std::vector<std::uint32_t>& order,
+               std::vector<std::uint32_t>& parent) {
     order.clear();
     for (std::uint32_t i = 0; i < w.cars.size(); ++i) {
         if (w.cars[i].active) order.push_back(i);
@@ -60,8 +67,16 @@ void mark_near(const WorldState& w, double reach, std::vector<std::uint32_t>& or
         for (std::size_t b = a + 1; b < order.size(); ++b) {
             const Vec3& pb = w.cars[order[b]].position;
             if (pb.x() - pa.x() >= reach) break;
-            if ((pb - pa).squaredNorm() < reach2) near[order[a]] = near[order[b]] = 1;
+            if ((pb - pa).squaredNorm() < reach2) parent[root(parent, order[a])] = root(parent, order[b]);
         }
+    }
+}
+
+// The inputs that tick w.tick uses: none before the start, for a finished
+// car or an empty slot (the step brakes or skips them).
+void effective_inputs(const WorldState& w, std::vector<Input>& in) {
+    for (std::size_t s = 0; s < in.size() && s < w.cars.size(); ++s) {
+        if (w.tick < w.start_tick || !w.cars[s].active || w.cars[s].finished) in[s] = Input{};
     }
 }
 
@@ -113,6 +128,7 @@ void Predictor::run_tick(const Scene& scene, std::size_t own, const Input& mine,
     }
     fill_inputs(latest, own, t, inputs_);
     inputs_.resize(world_.cars.size());
+    effective_inputs(world_, inputs_);
     step_kept(scene, world_, inputs_, own);
 }
 
@@ -122,6 +138,7 @@ std::uint32_t Predictor::first_stale_tick(const proto::WorldSnapshot& snap, std:
     std::uint32_t t = S;
     while (t < target && holds(t)) {
         fill_inputs(snap, own, t, inputs_);
+        effective_inputs(frames_[t % kFrames].world, inputs_);  // the new world at t, so far
         if (inputs_ != frames_[t % kFrames].inputs) return t;
         ++t;
     }
@@ -193,12 +210,20 @@ bool Predictor::find_reusable(const Scene& scene, const Frame& kept) {
     }
     const double r = scene.physics.car_radius_m;
     const double reach = 4.0 * r + 8.0 * v_max * scene.physics.dt_s() + 1.0;
-    near_.assign(n, 0);
-    for (const WorldState* w : worlds) mark_near(*w, reach, order_, near_);
-    bool any = false;
-    for (std::size_t i = 0; i < n; ++i) {
+    // Groups of cars within reach of each other in either world: a group
+    // with no changed car (state or input) steps as it did.
+    parent_.resize(n);
+    for (std::uint32_t i = 0; i < n; ++i) parent_[i] = i;
+    for (const WorldState* w : worlds) join_near(*w, reach, order_, parent_);
+    changed_.assign(n, 0);
+    for (std::uint32_t i = 0; i < n; ++i) {
         const CarState& c = replay_.cars[i];
-        reuse_[i] = c.active && !near_[i] && inputs_[i] == kept.inputs[i] && same_car(c, kept.world.cars[i]);
+        if (!c.active) continue;
+        if (!(inputs_[i] == kept.inputs[i]) || !same_car(c, kept.world.cars[i])) changed_[root(parent_, i)] = 1;
+    }
+    bool any = false;
+    for (std::uint32_t i = 0; i < n; ++i) {
+        reuse_[i] = replay_.cars[i].active && kept.world.cars[i].active && !changed_[root(parent_, i)];
         any = any || reuse_[i];
     }
     return any;
@@ -207,6 +232,7 @@ bool Predictor::find_reusable(const Scene& scene, const Frame& kept) {
 void Predictor::replay_tick(const Scene& scene, const proto::WorldSnapshot& snap, std::size_t own, std::uint32_t t,
                             std::uint32_t target) {
     fill_inputs(snap, own, t, inputs_);
+    effective_inputs(replay_, inputs_);
     const bool kept_next = t + 1 == target || holds(t + 1);
     if (!holds(t) || !kept_next || !find_reusable(scene, frames_[t % kFrames])) {
         step_kept(scene, replay_, inputs_, own);

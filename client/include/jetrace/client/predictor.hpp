@@ -13,9 +13,11 @@
 //
 // A replayed tick steps only the cars that can end it elsewhere than the
 // kept prediction: a car whose state and input are the kept ones, and which
-// is far from every other car in both worlds (no car-car contact can reach
+// is far from every changed car in both worlds (no car-car contact can reach
 // it within the tick), ends the tick where the kept next tick has it, since
-// every phase of the step but the car-car one is per car.
+// every phase of the step but the car-car one is per car. So does a group of
+// such cars near each other but far from every changed one. Inputs compare
+// as the step uses them: none before the start or for a finished car.
 //
 // A thin predictor (thin = true) never steps: its world is the newest
 // snapshot's, its tick runs on with the clock, and it keeps only the own
@@ -114,7 +116,8 @@ private:
     std::array<Frame, kFrames> frames_{};
     std::vector<Input> inputs_;  // of the tick being stepped
     std::vector<char> reuse_;  // per car: taken from the kept next tick
-    std::vector<char> near_;  // per car: another car within reach
+    std::vector<std::uint32_t> parent_;  // groups of cars within reach
+    std::vector<char> changed_;  // per group root: holds a changed car
     std::vector<std::uint32_t> order_;  // cars by x (the reach test)
     Work work_;
 };
