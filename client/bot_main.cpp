@@ -80,6 +80,7 @@ int main(int argc, char** argv) {
     std::uint64_t seed = 1;
     double reconnect_grace_s = 10.0;
     double join_window_s = 10.0;
+    double target_margin = jetrace::client::ClientConfig{}.target_margin_ticks;
     std::vector<std::string> token_texts;
     std::string token_file;
     app.add_option("--connect", connects, "server address HOST:PORT; repeated: bot i joins the (i mod N)-th")
@@ -96,6 +97,9 @@ int main(int argc, char** argv) {
         ->check(jetrace::cli::finite())->check(CLI::Range(0.01, 100.0));
     app.add_option("--max-seconds", max_seconds, "give up after this many wall-clock seconds")
         ->check(jetrace::cli::finite())->check(CLI::Range(1.0, 1e7));
+    app.add_option("--target-margin", target_margin,
+                   "ticks early the bots aim for their inputs to reach the server, on top of the jitter allowance")
+        ->check(jetrace::cli::finite())->check(CLI::Range(0.0, 30.0));
     app.add_option("--join-window", join_window_s,
                    "if the server cannot be reached, keep trying to join this long (s; 0: never)")
         ->check(jetrace::cli::finite())->check(CLI::Range(0.0, 3600.0));
@@ -206,6 +210,7 @@ int main(int argc, char** argv) {
         cc.join_window_s = join_window_s * time_scale;
         cc.welcome_timeout_s *= time_scale;
         cc.predict = !thin;
+        cc.target_margin_ticks = target_margin;
         const Address& to = addresses[static_cast<std::size_t>(i) % addresses.size()];
         b.client = std::make_unique<jetrace::client::RaceClient>(cc, known, [to] {
             std::string e;
