@@ -168,10 +168,9 @@ void RaceClient::on_snapshot(const proto::Snapshot& s) {
         }
         base = &r.second;
     }
-    proto::WorldSnapshot& snap = decoded_;
     std::string error;
-    if (!proto::decode_world(s.world, base, snap, error) || snap.state.tick != s.server_tick ||
-        snap.state.cars.size() <= static_cast<std::size_t>(slot_)) {
+    if (!proto::decode_world(s.world, base, decoded_, error) || decoded_.state.tick != s.server_tick ||
+        decoded_.state.cars.size() <= static_cast<std::size_t>(slot_)) {
         ++stats_.snapshots_dropped;
         spdlog::debug("{}: dropped snapshot {}: {}", config_.name, s.server_tick, error);
         return;
@@ -180,7 +179,8 @@ void RaceClient::on_snapshot(const proto::Snapshot& s) {
     phase_ = s.phase;
     auto& kept = received_[s.server_tick % received_.size()];
     kept.first = s.server_tick;
-    kept.second = snap;  // reuses the entry's storage
+    std::swap(kept.second, decoded_);  // no copy; decoded_ takes the old entry's storage
+    const proto::WorldSnapshot& snap = kept.second;
     if (newest_snapshot_tick_ != proto::kNoTick && s.server_tick <= newest_snapshot_tick_) return;  // reordered
     newest_snapshot_tick_ = s.server_tick;
     if (s.last_applied_input_tick != proto::kNoTick) last_applied_input_tick_ = s.last_applied_input_tick;
