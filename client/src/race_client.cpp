@@ -197,8 +197,11 @@ void RaceClient::on_snapshot(const proto::Snapshot& s) {
         state_ = ClientState::racing;
         return;
     }
-    reconcile(snap);
-    adjust_clock(s);
+    // Reconciled once the update's events are handled, with the newest of
+    // them (a backlog of snapshots costs one replay, not one each).
+    reconcile_pending_ = true;
+    pending_phase_ = s.phase;
+    pending_margin_ticks_ = s.input_margin_ticks;
 }
 
 void RaceClient::reset_world() {
@@ -207,6 +210,7 @@ void RaceClient::reset_world() {
     last_applied_input_tick_ = proto::kNoTick;
     predictor_.reset();
     thin_input_for_ = proto::kNoTick;
+    reconcile_pending_ = false;
     clock_adjust_ = 0;
     visual_offset_ = Vec3::Zero();
     have_world_ = false;
@@ -291,12 +295,12 @@ void RaceClient::reconcile(const proto::WorldSnapshot& snap) {
     visual_offset_ += before - predictor_.world().cars[own].position;
 }
 
-void RaceClient::adjust_clock(const proto::Snapshot& s) {
-    if (s.phase != proto::RacePhase::countdown && s.phase != proto::RacePhase::racing) return;
-    if (s.input_margin_ticks == -32768) return;  // no input received yet
+void RaceClient::adjust_clock(proto::RacePhase phase, std::int16_t input_margin_ticks) {
+    if (phase != proto::RacePhase::countdown && phase != proto::RacePhase::racing) return;
+    if (input_margin_ticks == -32768) return;  // no input received yet
     const double sigma_ticks = transport_->peer_stats(0).rtt_variance_ms * 1000.0 / tick_us_;
     const double target = config_.target_margin_ticks + config_.jitter_margin_sigmas * sigma_ticks;
-    const double error = s.input_margin_ticks - target;
+    const double error = input_margin_ticks - target;
     if (error < -6.0) {
         // Inputs arrive late: jump ahead rather than drift.
         const auto jump_us = static_cast<std::uint64_t>(std::min(-error, 30.0) * tick_us_);
@@ -359,6 +363,11 @@ void RaceClient::update(std::uint64_t now_us, const InputSource& input) {
         on_event(e);
         if (need_connection_) break;  // the rest came from the dead connection
     }
+    if (reconcile_pending_ && have_world_ && state_ == ClientState::racing && slot_ >= 0) {
+        reconcile(latest_);
+        adjust_clock(pending_phase_, pending_margin_ticks_);
+    }
+    reconcile_pending_ = false;
     if (state_ == ClientState::waiting_welcome && config_.welcome_timeout_s > 0 &&
         now_us_ - hello_sent_us_ > static_cast<std::uint64_t>(config_.welcome_timeout_s * 1e6)) {
         leave("no welcome within " + std::to_string(config_.welcome_timeout_s) + " s");

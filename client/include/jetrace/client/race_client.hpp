@@ -160,7 +160,7 @@ private:
     void run_tick(const InputSource& input);
     void send_inputs();
     void close(const std::string& reason);
-    void adjust_clock(const proto::Snapshot& s);
+    void adjust_clock(proto::RacePhase phase, std::int16_t input_margin_ticks);
     void send_hello();
     /// Forgets the prediction and snapshots: the next snapshot restarts them.
     void reset_world();
@@ -218,6 +218,10 @@ private:
     std::uint64_t latest_at_us_ = 0;
     std::uint32_t newest_snapshot_tick_ = proto::kNoTick;
     int snapshot_rate_hz_ = 60;
+    // The newest snapshot waits for the end of the update's events.
+    bool reconcile_pending_ = false;
+    proto::RacePhase pending_phase_ = proto::RacePhase::lobby;
+    std::int16_t pending_margin_ticks_ = 0;
 
     Vec3 visual_offset_{0, 0, 0};
     ClientStats stats_;
