@@ -262,14 +262,6 @@ private:
                     gate_.forget(*host_, *ev.peer);
                 } else if (!decode_id(ev.peer, id)) {
                     break;
-                } else {
-                    // ENet's packet throttle drops unreliable packets (inputs,
-                    // and the server's snapshots: the server is told the
-                    // same) whenever a round trip comes in above the mean, as
-                    // on a loaded host; the game sends at fixed rates and
-                    // judges lateness itself, so the throttle never slows.
-                    enet_peer_throttle_configure(ev.peer, ENET_PEER_PACKET_THROTTLE_INTERVAL,
-                                                 ENET_PEER_PACKET_THROTTLE_ACCELERATION, 0);
                 }
                 apply_timeouts(ev.peer, plan_);
                 Event e;
