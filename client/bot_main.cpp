@@ -68,8 +68,9 @@ bool read_tokens(const std::vector<std::string>& given, const std::string& file,
 int main(int argc, char** argv) {
     CLI::App app{"jetrace-bot: AI drivers that connect to a jetrace server"};
     app.footer(jetrace::bot::kExitCodesHelp);
-    std::string connect;
+    std::vector<std::string> connects;
     int count = 1;
+    bool thin = false;
     std::string prefix = "bot";
     int races = 1;
     std::string track_spec;
@@ -79,10 +80,14 @@ int main(int argc, char** argv) {
     std::uint64_t seed = 1;
     double reconnect_grace_s = 10.0;
     double join_window_s = 10.0;
+    double target_margin = jetrace::client::ClientConfig{}.target_margin_ticks;
     std::vector<std::string> token_texts;
     std::string token_file;
-    app.add_option("--connect", connect, "server address HOST:PORT")->required();
-    auto* count_opt = app.add_option("--count", count, "number of bots")->check(CLI::Range(1, 64));
+    app.add_option("--connect", connects, "server address HOST:PORT; repeated: bot i joins the (i mod N)-th")
+        ->required()->expected(1, 8);
+    auto* count_opt = app.add_option("--count", count, "number of bots")->check(CLI::Range(1, 256));
+    app.add_flag("--thin", thin,
+                 "thin bots: no prediction, each drives on the newest snapshot (load tests; cheaper per bot)");
     app.add_option("--name", prefix, "name prefix (bots are PREFIX0, PREFIX1, ...)");
     app.add_option("--races", races, "leave after this many races")->check(CLI::Range(1, 1000000));
     app.add_option("--track", track_spec, "the .obj file the server uses (built-in tracks are found by name)");
@@ -92,6 +97,9 @@ int main(int argc, char** argv) {
         ->check(jetrace::cli::finite())->check(CLI::Range(0.01, 100.0));
     app.add_option("--max-seconds", max_seconds, "give up after this many wall-clock seconds")
         ->check(jetrace::cli::finite())->check(CLI::Range(1.0, 1e7));
+    app.add_option("--target-margin", target_margin,
+                   "ticks early the bots aim for their inputs to reach the server, on top of the jitter allowance")
+        ->check(jetrace::cli::finite())->check(CLI::Range(0.0, 30.0));
     app.add_option("--join-window", join_window_s,
                    "if the server cannot be reached, keep trying to join this long (s; 0: never)")
         ->check(jetrace::cli::finite())->check(CLI::Range(0.0, 3600.0));
@@ -110,11 +118,18 @@ int main(int argc, char** argv) {
         return 2;
     }
 
-    std::string host;
-    std::uint16_t port = 0;
-    if (!jetrace::net::split_host_port(connect, host, port)) {
-        std::fprintf(stderr, "jetrace-bot: --connect must be HOST:PORT, got '%s'\n", connect.c_str());
-        return 2;
+    struct Address {
+        std::string host;
+        std::uint16_t port = 0;
+    };
+    std::vector<Address> addresses;
+    for (const std::string& connect : connects) {
+        Address a;
+        if (!jetrace::net::split_host_port(connect, a.host, a.port)) {
+            std::fprintf(stderr, "jetrace-bot: --connect must be HOST:PORT, got '%s'\n", connect.c_str());
+            return 2;
+        }
+        addresses.push_back(a);
     }
     std::vector<std::vector<std::uint8_t>> tokens;
     std::string error;
@@ -126,6 +141,10 @@ int main(int argc, char** argv) {
         // Each bot presents its own token (a token admits once) under its name.
         if (count_opt->count() > 0 && static_cast<std::size_t>(count) != tokens.size()) {
             std::fprintf(stderr, "jetrace-bot: --count %d but %zu connect tokens: one per bot\n", count, tokens.size());
+            return 2;
+        }
+        if (addresses.size() > 1) {
+            std::fprintf(stderr, "jetrace-bot: connect tokens admit to one private race: one --connect\n");
             return 2;
         }
         if (tokens.size() > 64) {
@@ -190,14 +209,18 @@ int main(int argc, char** argv) {
         // Real seconds: the bots' clock runs --time-scale times faster.
         cc.join_window_s = join_window_s * time_scale;
         cc.welcome_timeout_s *= time_scale;
-        b.client = std::make_unique<jetrace::client::RaceClient>(cc, known, [&host, port] {
+        cc.predict = !thin;
+        cc.target_margin_ticks = target_margin;
+        const Address& to = addresses[static_cast<std::size_t>(i) % addresses.size()];
+        b.client = std::make_unique<jetrace::client::RaceClient>(cc, known, [to] {
             std::string e;
-            auto t = jetrace::net::connect_enet(host, static_cast<std::uint16_t>(port), 5000, e);
+            auto t = jetrace::net::connect_enet(to.host, to.port, 5000, e);
             if (!t) spdlog::error("cannot connect: {}", e);
             return t;
         });
         if (b.client->state() == jetrace::client::ClientState::closed) {
-            std::fprintf(stderr, "jetrace-bot: cannot open a connection to %s\n", connect.c_str());
+            std::fprintf(stderr, "jetrace-bot: cannot open a connection to %s:%u\n", to.host.c_str(),
+                         static_cast<unsigned>(to.port));
             return jetrace::bot::kLostConnection;
         }
         bots.push_back(std::move(b));

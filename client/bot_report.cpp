@@ -62,6 +62,9 @@ bool print_bot_line(const client::RaceClient& c, const std::string& name, bool s
     j["snapshots"] = c.stats().snapshots;
     j["rtt_ms"] = c.rtt_ms();
     j["reconnects"] = c.stats().reconnects;
+    j["replayed_ticks"] = c.stats().replayed_ticks;
+    j["skipped_replays"] = c.stats().skipped_replays;
+    j["reused_car_steps"] = c.stats().reused_car_steps;
     j["down_bytes_per_s"] = static_cast<double>(totals.bytes_received) / wall_s;
     j["up_bytes_per_s"] = static_cast<double>(totals.bytes_sent) / wall_s;
     j["closed"] = c.close_reason();

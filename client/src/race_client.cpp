@@ -11,27 +11,15 @@ namespace jetrace::client {
 namespace {
 constexpr std::uint64_t kMaxCatchUp_us = 250000;
 
-// The best guess of car `slot`'s input at tick t from a snapshot: the input
-// the server already holds for t if the snapshot carries it, else the newest
-// one known.
-Input known_input(const proto::WorldSnapshot& snap, std::size_t slot, std::uint32_t t) {
-    if (slot >= snap.last_inputs.size()) return Input{};
-    if (slot < snap.upcoming.size() && !snap.upcoming[slot].empty()) {
-        const auto& up = snap.upcoming[slot];
-        const std::uint32_t k = t >= snap.state.tick ? t - snap.state.tick : 0;
-        return k < up.size() ? up[k] : up.back();
-    }
-    return snap.last_inputs[slot];
-}
 }  // namespace
 
 RaceClient::RaceClient(const ClientConfig& config, KnownScenes scenes, net::Transport& transport)
-    : config_(config), scenes_(std::move(scenes)), transport_(&transport) {
+    : config_(config), scenes_(std::move(scenes)), transport_(&transport), predictor_(!config.predict) {
     init();
 }
 
 RaceClient::RaceClient(const ClientConfig& config, KnownScenes scenes, Connector connect)
-    : config_(config), scenes_(std::move(scenes)), connector_(std::move(connect)) {
+    : config_(config), scenes_(std::move(scenes)), connector_(std::move(connect)), predictor_(!config.predict) {
     init();
     owned_ = connector_ ? connector_() : nullptr;
     transport_ = owned_.get();
@@ -43,8 +31,7 @@ void RaceClient::init() {
     for (const Scene* s : scenes_) identities_.push_back(s->track.identity());
     scene_ = scenes_.front();
     tick_us_ = 1e6 / scene_->physics.tick_rate_hz;
-    my_input_ticks_.fill(proto::kNoTick);
-    my_state_ticks_.fill(proto::kNoTick);
+    predictor_.reset();
     for (auto& r : received_) r.first = proto::kNoTick;
 }
 
@@ -130,7 +117,7 @@ void RaceClient::on_message(const proto::Message& m) {
         if (chosen == nullptr) {
             leave(why);
         } else {
-            if (chosen != scene_) scratch_ = StepScratch{};  // it holds the other track's triangles
+            if (chosen != scene_) predictor_.clear_scratch();  // it holds the other track's triangles
             scene_ = chosen;
             tick_us_ = 1e6 / chosen->physics.tick_rate_hz;
             if (state_ == ClientState::reconnecting) {
@@ -181,27 +168,28 @@ void RaceClient::on_snapshot(const proto::Snapshot& s) {
         }
         base = &r.second;
     }
-    proto::WorldSnapshot snap;
     std::string error;
-    if (!proto::decode_world(s.world, base, snap, error) || snap.state.tick != s.server_tick ||
-        snap.state.cars.size() <= static_cast<std::size_t>(slot_)) {
+    if (!proto::decode_world(s.world, base, decoded_, error) || decoded_.state.tick != s.server_tick ||
+        decoded_.state.cars.size() <= static_cast<std::size_t>(slot_)) {
         ++stats_.snapshots_dropped;
         spdlog::debug("{}: dropped snapshot {}: {}", config_.name, s.server_tick, error);
         return;
     }
     ++stats_.snapshots;
     phase_ = s.phase;
-    received_[s.server_tick % received_.size()] = {s.server_tick, snap};
+    auto& kept = received_[s.server_tick % received_.size()];
+    kept.first = s.server_tick;
+    std::swap(kept.second, decoded_);  // no copy; decoded_ takes the old entry's storage
+    const proto::WorldSnapshot& snap = kept.second;
     if (newest_snapshot_tick_ != proto::kNoTick && s.server_tick <= newest_snapshot_tick_) return;  // reordered
     newest_snapshot_tick_ = s.server_tick;
     if (s.last_applied_input_tick != proto::kNoTick) last_applied_input_tick_ = s.last_applied_input_tick;
-    previous_ = latest_;
     latest_ = snap;
     latest_at_us_ = now_us_;
     if (!have_world_) {
         // Join the race: start from the server's state and run ahead by the
         // estimated lead, which update() catches up right away.
-        predicted_ = snap.state;
+        predictor_.start(snap.state);
         have_world_ = true;
         const double lead = rtt_ms() * 1000.0 / tick_us_ + config_.target_margin_ticks + 2.0;
         const auto lead_us = static_cast<std::uint64_t>(std::min(lead, 30.0) * tick_us_);
@@ -209,16 +197,20 @@ void RaceClient::on_snapshot(const proto::Snapshot& s) {
         state_ = ClientState::racing;
         return;
     }
-    reconcile(snap);
-    adjust_clock(s);
+    // Reconciled once the update's events are handled, with the newest of
+    // them (a backlog of snapshots costs one replay, not one each).
+    reconcile_pending_ = true;
+    pending_phase_ = s.phase;
+    pending_margin_ticks_ = s.input_margin_ticks;
 }
 
 void RaceClient::reset_world() {
     for (auto& r : received_) r.first = proto::kNoTick;
     newest_snapshot_tick_ = proto::kNoTick;
     last_applied_input_tick_ = proto::kNoTick;
-    my_input_ticks_.fill(proto::kNoTick);
-    my_state_ticks_.fill(proto::kNoTick);
+    predictor_.reset();
+    thin_input_for_ = proto::kNoTick;
+    reconcile_pending_ = false;
     clock_adjust_ = 0;
     visual_offset_ = Vec3::Zero();
     have_world_ = false;
@@ -280,55 +272,35 @@ void RaceClient::reconnect_step() {
 }
 
 void RaceClient::reconcile(const proto::WorldSnapshot& snap) {
-    const std::uint32_t S = snap.state.tick;
     const auto own = static_cast<std::size_t>(slot_);
-    if (S >= predicted_.tick) {
-        // Behind the server: take its state and let the clock catch up.
-        predicted_ = snap.state;
+    const Vec3 before = predictor_.world().cars[own].position;
+    const Predictor::Outcome o =
+        predictor_.reconcile(*scene_, snap, own, !spectating_ && snap.state.cars[own].active);
+    stats_.replayed_ticks = predictor_.work().replayed_ticks;
+    stats_.skipped_replays = predictor_.work().skipped_replays;
+    stats_.reused_car_steps = predictor_.work().reused_car_steps;
+    if (o.resynced) {
+        // Behind the server: the clock catches up.
         ++stats_.clock_resyncs;
         next_tick_us_ = now_us_;
         return;
     }
-    if (my_state_ticks_[S % kRing] == S && !spectating_ && snap.state.cars[own].active) {
-        const CarState& mine = my_states_[S % kRing];
-        if (car_hash(mine) != car_hash(snap.state.cars[own])) {
-            ++stats_.corrections;
-            stats_.max_correction_m =
-                std::max(stats_.max_correction_m, (mine.position - snap.state.cars[own].position).norm());
-            double nearest = 1e9;
-            for (std::size_t s = 0; s < snap.state.cars.size(); ++s) {
-                if (s != own && snap.state.cars[s].active)
-                    nearest = std::min(nearest, (snap.state.cars[s].position - snap.state.cars[own].position).norm());
-            }
-            spdlog::debug("{}: correction at tick {}: error {:.4f} m, nearest car {:.1f} m, last applied input {}, "
-                          "predicted tick {}",
-                          config_.name, S, (mine.position - snap.state.cars[own].position).norm(), nearest,
-                          last_applied_input_tick_, predicted_.tick);
-        }
+    if (o.corrected) {
+        ++stats_.corrections;
+        stats_.max_correction_m = std::max(stats_.max_correction_m, o.error_m);
+        spdlog::debug("{}: correction at tick {}: error {:.4f} m, last applied input {}, predicted tick {}",
+                      config_.name, snap.state.tick, o.error_m, last_applied_input_tick_, predicted_tick());
     }
-    // Restore the server's state and replay the ticks since with our own
-    // inputs and the others' last known ones.
-    const Vec3 before = predicted_.cars[own].position;
-    const std::uint32_t target = predicted_.tick;
-    WorldState w = snap.state;
-    step_inputs_.assign(w.cars.size(), Input{});
-    for (std::uint32_t t = S; t < target; ++t) {
-        for (std::size_t s = 0; s < w.cars.size(); ++s) step_inputs_[s] = known_input(snap, s, t);
-        if (my_input_ticks_[t % kRing] == t) step_inputs_[own] = my_inputs_[t % kRing];
-        my_states_[t % kRing] = w.cars[own];
-        my_state_ticks_[t % kRing] = t;
-        step(*scene_, w, step_inputs_, scratch_);
-    }
-    predicted_ = std::move(w);
-    visual_offset_ += before - predicted_.cars[own].position;
+    if (predictor_.thin()) return;
+    visual_offset_ += before - predictor_.world().cars[own].position;
 }
 
-void RaceClient::adjust_clock(const proto::Snapshot& s) {
-    if (s.phase != proto::RacePhase::countdown && s.phase != proto::RacePhase::racing) return;
-    if (s.input_margin_ticks == -32768) return;  // no input received yet
+void RaceClient::adjust_clock(proto::RacePhase phase, std::int16_t input_margin_ticks) {
+    if (phase != proto::RacePhase::countdown && phase != proto::RacePhase::racing) return;
+    if (input_margin_ticks == -32768) return;  // no input received yet
     const double sigma_ticks = transport_->peer_stats(0).rtt_variance_ms * 1000.0 / tick_us_;
     const double target = config_.target_margin_ticks + config_.jitter_margin_sigmas * sigma_ticks;
-    const double error = s.input_margin_ticks - target;
+    const double error = input_margin_ticks - target;
     if (error < -6.0) {
         // Inputs arrive late: jump ahead rather than drift.
         const auto jump_us = static_cast<std::uint64_t>(std::min(-error, 30.0) * tick_us_);
@@ -341,24 +313,26 @@ void RaceClient::adjust_clock(const proto::Snapshot& s) {
 }
 
 void RaceClient::run_tick(const InputSource& input) {
-    const std::uint32_t t = predicted_.tick;
+    const WorldState& w = predictor_.world();
     const auto own = static_cast<std::size_t>(slot_);
     Input mine{};
-    if (!spectating_ && predicted_.cars[own].active && input) mine = input(*scene_, predicted_, slot_);
-    my_inputs_[t % kRing] = mine;
-    my_input_ticks_[t % kRing] = t;
-    my_states_[t % kRing] = predicted_.cars[own];
-    my_state_ticks_[t % kRing] = t;
-    step_inputs_.assign(predicted_.cars.size(), Input{});
-    for (std::size_t s = 0; s < predicted_.cars.size(); ++s) step_inputs_[s] = known_input(latest_, s, t);
-    step_inputs_[own] = mine;
-    step(*scene_, predicted_, step_inputs_, scratch_);
+    if (!spectating_ && w.cars[own].active && input) {
+        if (!predictor_.thin()) {
+            mine = input(*scene_, w, slot_);
+        } else {
+            // On the newest snapshot, once per snapshot.
+            if (thin_input_for_ != newest_snapshot_tick_) thin_input_ = input(*scene_, w, slot_);
+            thin_input_for_ = newest_snapshot_tick_;
+            mine = thin_input_;
+        }
+    }
+    predictor_.run_tick(*scene_, own, mine, latest_);
     visual_offset_ *= 1.0 - config_.smoothing_per_tick;
 }
 
 void RaceClient::send_inputs() {
     if (spectating_ || slot_ < 0) return;
-    const std::uint32_t end = predicted_.tick;  // inputs for ticks < end exist
+    const std::uint32_t end = predicted_tick();  // inputs for ticks < end exist
     std::uint32_t first = last_applied_input_tick_ == proto::kNoTick ? 0 : last_applied_input_tick_ + 1;
     if (end > proto::kMaxInputsPerBatch && first < end - static_cast<std::uint32_t>(proto::kMaxInputsPerBatch)) {
         first = end - static_cast<std::uint32_t>(proto::kMaxInputsPerBatch);
@@ -366,12 +340,13 @@ void RaceClient::send_inputs() {
     proto::InputBatch b;
     b.ack_snapshot_tick = newest_snapshot_tick_;
     for (std::uint32_t t = first; t < end; ++t) {
-        if (my_input_ticks_[t % kRing] != t) {
+        const Input* in = predictor_.my_input(t);
+        if (in == nullptr) {
             b.inputs.clear();
             first = t + 1;
             continue;
         }
-        b.inputs.push_back(my_inputs_[t % kRing]);
+        b.inputs.push_back(*in);
     }
     if (b.inputs.empty()) return;
     b.first_tick = first;
@@ -388,6 +363,11 @@ void RaceClient::update(std::uint64_t now_us, const InputSource& input) {
         on_event(e);
         if (need_connection_) break;  // the rest came from the dead connection
     }
+    if (reconcile_pending_ && have_world_ && state_ == ClientState::racing && slot_ >= 0) {
+        reconcile(latest_);
+        adjust_clock(pending_phase_, pending_margin_ticks_);
+    }
+    reconcile_pending_ = false;
     if (state_ == ClientState::waiting_welcome && config_.welcome_timeout_s > 0 &&
         now_us_ - hello_sent_us_ > static_cast<std::uint64_t>(config_.welcome_timeout_s * 1e6)) {
         leave("no welcome within " + std::to_string(config_.welcome_timeout_s) + " s");
@@ -406,13 +386,13 @@ void RaceClient::update(std::uint64_t now_us, const InputSource& input) {
     }
     // Inputs go out at most every `input_interval` ticks, with every input
     // the server has not yet applied (redundancy against loss).
-    if (ran > 0 && (predicted_.tick % config_.input_interval_ticks == 0 || ran > 1)) send_inputs();
+    if (ran > 0 && (predicted_tick() % config_.input_interval_ticks == 0 || ran > 1)) send_inputs();
     transport_->flush();
 }
 
 Vec3 RaceClient::visual_own_position() const {
     if (slot_ < 0 || !have_world_) return Vec3::Zero();
-    return predicted_.cars[static_cast<std::size_t>(slot_)].position + visual_offset_;
+    return predicted().cars[static_cast<std::size_t>(slot_)].position + visual_offset_;
 }
 
 Vec3 RaceClient::visual_position(int slot) const {

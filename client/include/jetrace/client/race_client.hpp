@@ -11,6 +11,8 @@
 #include "jetrace/proto/world_codec.hpp"
 #include "jetrace/world.hpp"
 
+#include "jetrace/client/predictor.hpp"
+
 #include <array>
 #include <cstdint>
 #include <functional>
@@ -56,6 +58,10 @@ struct ClientConfig {
     /// Hello.connect_token: a signed connect token for a private race
     /// (jetrace-token issue), or empty (unit: bytes).
     std::vector<std::uint8_t> connect_token;
+    /// Predict (and reconcile) the world; false: a thin client, which steps
+    /// nothing and drives on the newest snapshot, its input computed once a
+    /// snapshot (load tests: far cheaper per client, the same protocol).
+    bool predict = true;
 };
 
 enum class ClientState : std::uint8_t { connecting, waiting_welcome, in_lobby, racing, reconnecting, closed };
@@ -73,6 +79,14 @@ struct ClientStats {
     std::uint64_t clock_resyncs = 0;
     /// Times the client got its slot back after a drop.
     std::uint64_t reconnects = 0;
+    /// Ticks stepped again by reconciliations (only from the first tick
+    /// that can differ from the prediction).
+    std::uint64_t replayed_ticks = 0;
+    /// Reconciliations that found the prediction right and stepped nothing.
+    std::uint64_t skipped_replays = 0;
+    /// Car-steps of replayed ticks taken from the prediction instead (cars
+    /// far from the others, with the inputs predicted).
+    std::uint64_t reused_car_steps = 0;
 };
 
 /// Gives the input for the client's own car for the next tick.
@@ -113,9 +127,10 @@ public:
     bool spectating() const { return spectating_; }
     std::uint32_t race_number() const { return race_number_; }
     proto::RacePhase phase() const { return phase_; }
-    /// The predicted world at predicted_tick().
-    const WorldState& predicted() const { return predicted_; }
-    std::uint32_t predicted_tick() const { return predicted_.tick; }
+    /// The predicted world at predicted_tick() (thin: the newest snapshot's
+    /// cars at the clock's tick).
+    const WorldState& predicted() const { return predictor_.world(); }
+    std::uint32_t predicted_tick() const { return predictor_.world().tick; }
     /// The newest authoritative world from a snapshot.
     const WorldState& authoritative() const { return latest_.state; }
     const ClientStats& stats() const { return stats_; }
@@ -137,8 +152,6 @@ public:
     Vec3 visual_position(int slot) const;
 
 private:
-    static constexpr std::size_t kRing = 256;
-
     void init();
     void on_event(const net::Event& e);
     void on_message(const proto::Message& m);
@@ -147,7 +160,7 @@ private:
     void run_tick(const InputSource& input);
     void send_inputs();
     void close(const std::string& reason);
-    void adjust_clock(const proto::Snapshot& s);
+    void adjust_clock(proto::RacePhase phase, std::int16_t input_margin_ticks);
     void send_hello();
     /// Forgets the prediction and snapshots: the next snapshot restarts them.
     void reset_world();
@@ -192,22 +205,23 @@ private:
     bool have_world_ = false;
 
     // Prediction.
-    WorldState predicted_;
-    StepScratch scratch_;
-    std::array<Input, kRing> my_inputs_{};
-    std::array<std::uint32_t, kRing> my_input_ticks_{};
-    std::array<CarState, kRing> my_states_{};  // own car at the start of tick t
-    std::array<std::uint32_t, kRing> my_state_ticks_{};
-    std::vector<Input> step_inputs_;
+    Predictor predictor_;
     std::uint32_t last_applied_input_tick_ = proto::kNoTick;
+    // Thin: the own input, computed on the newest snapshot of this tick.
+    Input thin_input_{};
+    std::uint32_t thin_input_for_ = proto::kNoTick;
 
     // Snapshots: decoded worlds by tick (baselines), newest and previous.
     std::array<std::pair<std::uint32_t, proto::WorldSnapshot>, 128> received_{};
     proto::WorldSnapshot latest_;
-    proto::WorldSnapshot previous_;
+    proto::WorldSnapshot decoded_;  // decode target (keeps its storage)
     std::uint64_t latest_at_us_ = 0;
     std::uint32_t newest_snapshot_tick_ = proto::kNoTick;
     int snapshot_rate_hz_ = 60;
+    // The newest snapshot waits for the end of the update's events.
+    bool reconcile_pending_ = false;
+    proto::RacePhase pending_phase_ = proto::RacePhase::lobby;
+    std::int16_t pending_margin_ticks_ = 0;
 
     Vec3 visual_offset_{0, 0, 0};
     ClientStats stats_;

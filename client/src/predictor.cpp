@@ -1,0 +1,262 @@
+#include "jetrace/client/predictor.hpp"
+
+#include "jetrace/car_fields.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cstring>
+
+namespace jetrace::client {
+
+namespace {
+
+// The best guess of car `slot`'s input at tick t from a snapshot: the input
+// the server already holds for t if the snapshot carries it, else the newest
+// one known.
+Input known_input(const proto::WorldSnapshot& snap, std::size_t slot, std::uint32_t t) {
+    if (slot >= snap.last_inputs.size()) return Input{};
+    if (slot < snap.upcoming.size() && !snap.upcoming[slot].empty()) {
+        const auto& up = snap.upcoming[slot];
+        const std::uint32_t k = t >= snap.state.tick ? t - snap.state.tick : 0;
+        return k < up.size() ? up[k] : up.back();
+    }
+    return snap.last_inputs[slot];
+}
+
+template <class T>
+std::uint64_t bits_of(const T& v) {
+    if constexpr (std::is_same_v<T, double>) {
+        return std::bit_cast<std::uint64_t>(v);
+    } else {
+        return static_cast<std::uint64_t>(v);
+    }
+}
+
+bool same_car(const CarState& a, const CarState& b) {
+    // Bit for bit, field by field (never the padding): -0 and 0 differ.
+    std::array<std::uint64_t, kCarFieldCount> fa{};
+    std::size_t n = 0;
+    visit_car_fields(a, [&](const char*, const auto& v) { fa[n++] = bits_of(v); });
+    n = 0;
+    bool same = true;
+    visit_car_fields(b, [&](const char*, const auto& v) { same = same && fa[n++] == bits_of(v); });
+    return same;
+}
+
+std::uint32_t root(std::vector<std::uint32_t>& parent, std::uint32_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+}
+
+// Joins in `parent` (a union-find forest) every two active cars of `w`
+// closer than `reach` (sorted by x, then a sweep: no pair test beyond reach
+// in x).
+void join_near(const WorldState& w, double reach, std::vector<std::uint32_t>& order,
+               std::vector<std::uint32_t>& parent) {
+    order.clear();
+    for (std::uint32_t i = 0; i < w.cars.size(); ++i) {
+        if (w.cars[i].active) order.push_back(i);
+    }
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+        const double xa = w.cars[a].position.x(), xb = w.cars[b].position.x();
+        return xa < xb || (xa == xb && a < b);
+    });
+    const double reach2 = reach * reach;
+    for (std::size_t a = 0; a < order.size(); ++a) {
+        const Vec3& pa = w.cars[order[a]].position;
+        for (std::size_t b = a + 1; b < order.size(); ++b) {
+            const Vec3& pb = w.cars[order[b]].position;
+            if (pb.x() - pa.x() >= reach) break;
+            if ((pb - pa).squaredNorm() < reach2) parent[root(parent, order[a])] = root(parent, order[b]);
+        }
+    }
+}
+
+// The inputs that tick w.tick uses: none before the start, for a finished
+// car or an empty slot (the step brakes or skips them).
+void effective_inputs(const WorldState& w, std::vector<Input>& in) {
+    for (std::size_t s = 0; s < in.size() && s < w.cars.size(); ++s) {
+        if (w.tick < w.start_tick || !w.cars[s].active || w.cars[s].finished) in[s] = Input{};
+    }
+}
+
+}  // namespace
+
+bool same_world(const WorldState& a, const WorldState& b) {
+    if (a.tick != b.tick || a.start_tick != b.start_tick || a.laps != b.laps || a.cars.size() != b.cars.size()) {
+        return false;
+    }
+    for (std::size_t i = 0; i < a.cars.size(); ++i) {
+        if (!same_car(a.cars[i], b.cars[i])) return false;
+    }
+    return true;
+}
+
+void Predictor::reset() {
+    my_input_ticks_.fill(proto::kNoTick);
+    my_state_ticks_.fill(proto::kNoTick);
+    for (Frame& f : frames_) f.tick = proto::kNoTick;
+}
+
+void Predictor::start(const WorldState& w) { world_ = w; }
+
+void Predictor::fill_inputs(const proto::WorldSnapshot& snap, std::size_t own, std::uint32_t t,
+                            std::vector<Input>& out) const {
+    out.resize(snap.state.cars.size());
+    for (std::size_t s = 0; s < out.size(); ++s) out[s] = known_input(snap, s, t);
+    if (const Input* mine = my_input(t); mine != nullptr && own < out.size()) out[own] = *mine;
+}
+
+void Predictor::step_kept(const Scene& scene, WorldState& w, const std::vector<Input>& inputs, std::size_t own) {
+    const std::uint32_t t = w.tick;
+    my_states_[t % kRing] = w.cars[own];
+    my_state_ticks_[t % kRing] = t;
+    Frame& f = frames_[t % kFrames];
+    f.tick = t;
+    f.world = w;  // reuses the frame's storage
+    f.inputs = inputs;
+    step(scene, w, inputs, scratch_);
+}
+
+void Predictor::run_tick(const Scene& scene, std::size_t own, const Input& mine, const proto::WorldSnapshot& latest) {
+    const std::uint32_t t = world_.tick;
+    my_inputs_[t % kRing] = mine;
+    my_input_ticks_[t % kRing] = t;
+    if (thin_) {
+        ++world_.tick;
+        return;
+    }
+    fill_inputs(latest, own, t, inputs_);
+    inputs_.resize(world_.cars.size());
+    effective_inputs(world_, inputs_);
+    step_kept(scene, world_, inputs_, own);
+}
+
+std::uint32_t Predictor::first_stale_tick(const proto::WorldSnapshot& snap, std::size_t own, std::uint32_t target) {
+    const std::uint32_t S = snap.state.tick;
+    if (!holds(S) || !same_world(frames_[S % kFrames].world, snap.state)) return S;
+    std::uint32_t t = S;
+    while (t < target && holds(t)) {
+        fill_inputs(snap, own, t, inputs_);
+        effective_inputs(frames_[t % kFrames].world, inputs_);  // the new world at t, so far
+        if (inputs_ != frames_[t % kFrames].inputs) return t;
+        ++t;
+    }
+    // Every tick up to the target agrees: nothing to step again. A frame
+    // missing before it (never, with kFrames above the largest lead) means a
+    // full replay.
+    return t == target ? target : S;
+}
+
+void Predictor::reconcile_thin(const proto::WorldSnapshot& snap, Outcome& o) {
+    if (snap.state.tick >= world_.tick) {
+        world_ = snap.state;
+        o.resynced = true;
+        return;
+    }
+    const std::uint32_t tick = world_.tick;
+    world_ = snap.state;
+    world_.tick = tick;
+}
+
+Predictor::Outcome Predictor::reconcile(const Scene& scene, const proto::WorldSnapshot& snap, std::size_t own,
+                                        bool check_own) {
+    Outcome o;
+    if (thin_) {
+        reconcile_thin(snap, o);
+        return o;
+    }
+    const std::uint32_t S = snap.state.tick;
+    if (S >= world_.tick) {
+        // Behind the server: take its state (the clock catches up).
+        world_ = snap.state;
+        o.resynced = true;
+        return o;
+    }
+    if (check_own && my_state_ticks_[S % kRing] == S) {
+        const CarState& mine = my_states_[S % kRing];
+        if (car_hash(mine) != car_hash(snap.state.cars[own])) {
+            o.corrected = true;
+            o.error_m = (mine.position - snap.state.cars[own].position).norm();
+        }
+    }
+    // Restore the server's state and replay the ticks since with our own
+    // inputs and the others' best known ones, from the first that can differ.
+    const std::uint32_t target = world_.tick;
+    const std::uint32_t from = first_stale_tick(snap, own, target);
+    if (from == target) {
+        ++work_.skipped_replays;
+        return o;
+    }
+    replay_ = from == S ? snap.state : frames_[from % kFrames].world;
+    for (std::uint32_t t = from; t < target; ++t) replay_tick(scene, snap, own, t, target);
+    std::swap(world_, replay_);  // both keep their storage
+    work_.replayed_ticks += target - from;
+    return o;
+}
+
+bool Predictor::find_reusable(const Scene& scene, const Frame& kept) {
+    const std::size_t n = replay_.cars.size();
+    reuse_.assign(n, 0);
+    if (kept.world.cars.size() != n || kept.inputs.size() != n) return false;
+    // Reach: both cars' travel in the tick, generously, plus the car-car
+    // push-outs of a pile (each at most half an overlap), on top of contact.
+    const std::array<const WorldState*, 2> worlds{&replay_, &kept.world};
+    double v_max = 0;
+    for (const WorldState* w : worlds) {
+        for (const CarState& c : w->cars) {
+            if (c.active) v_max = std::max(v_max, c.velocity.norm());
+        }
+    }
+    const double r = scene.physics.car_radius_m;
+    const double reach = 4.0 * r + 8.0 * v_max * scene.physics.dt_s() + 1.0;
+    // Groups of cars within reach of each other in either world: a group
+    // with no changed car (state or input) steps as it did.
+    parent_.resize(n);
+    for (std::uint32_t i = 0; i < n; ++i) parent_[i] = i;
+    for (const WorldState* w : worlds) join_near(*w, reach, order_, parent_);
+    changed_.assign(n, 0);
+    for (std::uint32_t i = 0; i < n; ++i) {
+        const CarState& c = replay_.cars[i];
+        if (!c.active) continue;
+        if (!(inputs_[i] == kept.inputs[i]) || !same_car(c, kept.world.cars[i])) changed_[root(parent_, i)] = 1;
+    }
+    bool any = false;
+    for (std::uint32_t i = 0; i < n; ++i) {
+        reuse_[i] = replay_.cars[i].active && kept.world.cars[i].active && !changed_[root(parent_, i)];
+        any = any || reuse_[i];
+    }
+    return any;
+}
+
+void Predictor::replay_tick(const Scene& scene, const proto::WorldSnapshot& snap, std::size_t own, std::uint32_t t,
+                            std::uint32_t target) {
+    fill_inputs(snap, own, t, inputs_);
+    effective_inputs(replay_, inputs_);
+    const bool kept_next = t + 1 == target || holds(t + 1);
+    if (!holds(t) || !kept_next || !find_reusable(scene, frames_[t % kFrames])) {
+        step_kept(scene, replay_, inputs_, own);
+        return;
+    }
+    // The kept next tick (read before step_kept overwrites tick t's frame;
+    // tick t + 1's is overwritten only by the next replayed tick).
+    const WorldState& next = t + 1 == target ? world_ : frames_[(t + 1) % kFrames].world;
+    const std::size_t n = replay_.cars.size();
+    std::uint64_t reused = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (reuse_[i]) replay_.cars[i].active = false;  // the step skips it
+    }
+    // step_kept keeps tick t's frame with the reused cars inactive: restore them.
+    step_kept(scene, replay_, inputs_, own);
+    Frame& f = frames_[t % kFrames];
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!reuse_[i]) continue;
+        f.world.cars[i].active = true;
+        replay_.cars[i] = next.cars[i];
+        ++reused;
+    }
+    if (reuse_[own]) my_states_[t % kRing] = f.world.cars[own];
+    work_.reused_car_steps += reused;
+}
+
+}  // namespace jetrace::client}  // namespace jetrace::client
