@@ -258,8 +258,10 @@ int main(int argc, char** argv) {
     }
     for (const Bot& b : bots) {
         const std::string& why = b.client->close_reason();
-        if (why.starts_with("refused: ")) std::fprintf(stderr, "jetrace-bot: %s: %s\n", b.name.c_str(), why.c_str());
-        if (why.starts_with("track mismatch")) {
+        const std::uint16_t code = b.client->close_code();
+        if (jetrace::proto::close_class(code) == jetrace::proto::CloseClass::refused)
+            std::fprintf(stderr, "jetrace-bot: %s: %s\n", b.name.c_str(), why.c_str());
+        if (code == static_cast<std::uint16_t>(jetrace::proto::CloseCode::local_incompatible)) {
             std::fprintf(stderr, "jetrace-bot: %s%s\n", why.c_str(),
                          track_spec.empty() ? " (not a built-in track: pass --track FILE.obj)" : "");
         }

@@ -9,11 +9,14 @@ namespace jetrace::bot {
 
 ExitCode outcome_of(const client::RaceClient& c, bool finished, bool stopped) {
     if (finished) return kFinished;
-    const std::string& why = c.close_reason();
-    if (why.starts_with("refused: ")) return kRefused;
-    if (why.starts_with("track mismatch")) return kBadArguments;
+    using proto::CloseClass;
+    const std::uint16_t code = c.close_code();
+    if (proto::close_class(code) == CloseClass::refused) return kRefused;
+    if (code == static_cast<std::uint16_t>(proto::CloseCode::local_incompatible)) return kBadArguments;
     if (stopped) return kStopped;
-    if (why.starts_with("server: ")) return kServerGone;
+    // The server said goodbye: it shut down, drained, cancelled its lobby, or dropped the bot.
+    if (proto::close_class(code) == CloseClass::normal || proto::close_class(code) == CloseClass::remote_fault)
+        return kServerGone;
     if (c.races_finished() > 0) return kDidNotFinish;
     return kLostConnection;
 }

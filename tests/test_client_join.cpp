@@ -145,6 +145,7 @@ TEST(ClientJoin, AnUnknownTrackOrOtherPhysicsLeaves) {
         c.update(1000, no_input);
         EXPECT_EQ(c.state(), ClientState::closed);
         EXPECT_EQ(c.close_reason().rfind(k.reason, 0), 0u) << c.close_reason();
+        EXPECT_EQ(c.close_code(), static_cast<std::uint16_t>(proto::CloseCode::local_incompatible));
         EXPECT_TRUE(t.disconnected);
         ASSERT_FALSE(t.sent.empty());
         EXPECT_TRUE(std::holds_alternative<proto::Goodbye>(t.sent.back()));
@@ -252,19 +253,21 @@ TEST(ClientJoin, ADropAfterTheHelloIsFinal) {
 }
 
 TEST(ClientJoin, AServerThatNeverGotTheHelloIsJoinedAgain) {
-    // Its Goodbye says so (proto::kNoHelloReason): it admitted nothing. Any
-    // other Goodbye before the Welcome is final.
+    // Its Goodbye's code says so (no_hello): it admitted nothing. Any other
+    // Goodbye before the Welcome is final, whatever its text says.
     for (const bool no_hello : {true, false}) {
         Joiner j(client::ClientConfig{}, {&tracks().ring}, 5);
         j.come_up();
         ASSERT_EQ(j.client->state(), ClientState::waiting_welcome);
-        const std::string reason = no_hello ? std::string(proto::kNoHelloReason) + " 5.000000 s" : "shutting down";
-        j.last().deliver(proto::Goodbye{reason});
+        const std::string reason = no_hello ? "hello lost" : std::string(proto::kNoHelloReason) + " 5.000000 s";
+        const auto code = no_hello ? proto::CloseCode::no_hello : proto::CloseCode::server_shutdown;
+        j.last().deliver(proto::Goodbye{reason, static_cast<std::uint16_t>(code)});
         j.last().drop();
         j.run_for(1.0);
         if (!no_hello) {
             EXPECT_EQ(j.client->state(), ClientState::closed);
-            EXPECT_EQ(j.client->close_reason(), "server: shutting down");
+            EXPECT_EQ(j.client->close_reason(), "server: " + reason);
+            EXPECT_EQ(j.client->close_code(), static_cast<std::uint16_t>(proto::CloseCode::server_shutdown));
             EXPECT_EQ(j.opened.size(), 1u);
             continue;
         }
@@ -287,6 +290,7 @@ TEST(ClientJoin, NoWelcomeWithinTheTimeoutLeaves) {
     j.run_for(0.2);
     EXPECT_EQ(j.client->state(), ClientState::closed);
     EXPECT_EQ(j.client->close_reason().rfind("no welcome within 3", 0), 0u) << j.client->close_reason();
+    EXPECT_EQ(j.client->close_code(), static_cast<std::uint16_t>(proto::CloseCode::local_no_welcome));
     EXPECT_TRUE(j.last().disconnected);
     ASSERT_FALSE(j.last().sent.empty());
     EXPECT_TRUE(std::holds_alternative<proto::Goodbye>(j.last().sent.back()));
@@ -303,6 +307,7 @@ TEST(ClientJoin, JoiningGivesUpAfterTheWindow) {
     }
     EXPECT_EQ(j.client->state(), ClientState::closed);
     EXPECT_EQ(j.client->close_reason().rfind("disconnected: could not join within", 0), 0u) << j.client->close_reason();
+    EXPECT_EQ(j.client->close_code(), static_cast<std::uint16_t>(proto::CloseCode::local_connection_lost));
     EXPECT_TRUE(j.last().disconnected) << "the attempt under way is called off";
     // One attempt per retry interval for the 2 s window, not one per failure.
     EXPECT_GE(j.opened.size(), 3u);
@@ -313,11 +318,12 @@ TEST(ClientJoin, ARefusalOrAZeroWindowIsFinal) {
     {
         Joiner j(client::ClientConfig{}, {&tracks().ring}, 5);
         j.last().connect();
-        j.last().deliver(proto::Refuse{"server full"});
+        j.last().deliver(proto::Refuse{"server full", static_cast<std::uint16_t>(proto::CloseCode::refused_full)});
         j.last().drop();
         j.run_for(2.0);
         EXPECT_EQ(j.client->state(), ClientState::closed);
         EXPECT_EQ(j.client->close_reason(), "refused: server full");
+        EXPECT_EQ(j.client->close_code(), static_cast<std::uint16_t>(proto::CloseCode::refused_full));
         EXPECT_EQ(j.opened.size(), 1u);
     }
     {

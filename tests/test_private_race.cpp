@@ -67,6 +67,7 @@ TEST(PrivateRace, AdmitsAGoodTokenOnceAndRefusesTheRestWithTheReason) {
     Bot& carol = r.add_bot(late);
     ASSERT_TRUE(r.run_until([&] { return carol.client->state() == ClientState::closed; }, 3000));
     EXPECT_EQ(carol.client->close_reason(), "refused: connect token expired 1 s ago");
+    EXPECT_EQ(carol.client->close_code(), static_cast<std::uint16_t>(jetrace::proto::CloseCode::refused_token));
 
     // A good token for another player still gets in.
     const auto bob = r.handshake(hello("bob", p.token("bob")));

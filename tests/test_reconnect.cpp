@@ -109,6 +109,7 @@ TEST(Reconnect, ALiveConnectionIsReplacedByItsOwnersReconnect) {
     EXPECT_EQ(std::get<1>(answer).slot, a.client->slot());
     ASSERT_TRUE(r.run_until([&] { return a.client->state() == ClientState::closed; }, 3000));
     EXPECT_EQ(a.client->close_reason(), "server: replaced by a reconnection of the same player");
+    EXPECT_EQ(a.client->close_code(), static_cast<std::uint16_t>(jetrace::proto::CloseCode::replaced));
 }
 
 TEST(Reconnect, AfterTheGraceTheCarIsRemovedAndTheTokenExpired) {

@@ -23,7 +23,7 @@ RaceClient::RaceClient(const ClientConfig& config, KnownScenes scenes, Connector
     init();
     owned_ = connector_ ? connector_() : nullptr;
     transport_ = owned_.get();
-    if (!transport_) close("cannot open a connection");
+    if (!transport_) close("cannot open a connection", proto::CloseCode::local_connection_lost);
 }
 
 void RaceClient::init() {
@@ -49,20 +49,23 @@ net::Totals RaceClient::totals() const {
     return t;
 }
 
-void RaceClient::close(const std::string& reason) {
+void RaceClient::close(const std::string& reason, proto::CloseCode why) {
     if (state_ == ClientState::closed) return;
     state_ = ClientState::closed;
     close_reason_ = reason;
+    close_code_ = static_cast<std::uint16_t>(why);
     spdlog::info("{}: closed: {}", config_.name, reason);
 }
 
-void RaceClient::leave(const std::string& reason) {
+void RaceClient::leave(const std::string& reason, proto::CloseCode why) {
     if (state_ == ClientState::closed) return;
-    if (!transport_) return close(reason);
-    transport_->send(0, net::Channel::reliable, proto::encode(proto::Goodbye{reason}));
+    if (!transport_) return close(reason, why);
+    // On the wire a client's goodbye is always `left`; its own code stays here.
+    transport_->send(0, net::Channel::reliable,
+                     proto::encode(proto::Goodbye{reason, static_cast<std::uint16_t>(proto::CloseCode::left)}));
     transport_->disconnect(0);
     transport_->flush();
-    close(reason);
+    close(reason, why);
 }
 
 void RaceClient::on_event(const net::Event& e) {
@@ -70,7 +73,7 @@ void RaceClient::on_event(const net::Event& e) {
         case net::Event::Type::connected: send_hello(); break;
         case net::Event::Type::disconnected:
             if (state_ == ClientState::reconnecting && !close_reason_.empty()) {
-                close(close_reason_);  // the server said goodbye to the new connection
+                close(close_reason_, static_cast<proto::CloseCode>(server_code_));  // the server said goodbye to the new connection
             } else if (state_ == ClientState::reconnecting) {
                 need_connection_ = true;  // that attempt failed: try again
             } else if (may_reconnect()) {
@@ -83,6 +86,7 @@ void RaceClient::on_event(const net::Event& e) {
                 spdlog::info("{}: {}; joining again", config_.name,
                              no_hello_ ? close_reason_ : std::string("could not connect"));
                 close_reason_.clear();
+                server_code_ = 0;
                 no_hello_ = false;
                 state_ = ClientState::reconnecting;
                 rejoining_ = true;
@@ -90,7 +94,11 @@ void RaceClient::on_event(const net::Event& e) {
                 next_attempt_us_ = now_us_ + static_cast<std::uint64_t>(config_.reconnect_retry_s * 1e6);
                 need_connection_ = true;
             } else {
-                close(close_reason_.empty() ? "disconnected" : close_reason_);
+                if (close_reason_.empty()) {
+                    close("disconnected", proto::CloseCode::local_connection_lost);
+                } else {
+                    close(close_reason_, static_cast<proto::CloseCode>(server_code_));
+                }
             }
             break;
         case net::Event::Type::received: {
@@ -115,7 +123,7 @@ void RaceClient::on_message(const proto::Message& m) {
         std::string why;
         const Scene* chosen = scene_for(*w, why);
         if (chosen == nullptr) {
-            leave(why);
+            leave(why, proto::CloseCode::local_incompatible);
         } else {
             if (chosen != scene_) predictor_.clear_scratch();  // it holds the other track's triangles
             scene_ = chosen;
@@ -132,12 +140,14 @@ void RaceClient::on_message(const proto::Message& m) {
             spdlog::info("{}: welcome, slot {}", config_.name, slot_);
         }
     } else if (const auto* r = std::get_if<proto::Refuse>(&m)) {
-        close("refused: " + r->reason);
+        close("refused: " + r->reason, static_cast<proto::CloseCode>(r->code));
     } else if (const auto* g = std::get_if<proto::Goodbye>(&m)) {
         close_reason_ = "server: " + g->reason;
+        server_code_ = g->code;
         // The server never got our Hello (lost on a bad link): it admitted
         // nothing, so joining again is safe.
-        no_hello_ = state_ == ClientState::waiting_welcome && g->reason.starts_with(proto::kNoHelloReason);
+        no_hello_ = state_ == ClientState::waiting_welcome &&
+                    g->code == static_cast<std::uint16_t>(proto::CloseCode::no_hello);
     } else if (const auto* s = std::get_if<proto::RaceStatus>(&m)) {
         phase_ = s->phase;
         for (const auto& p : s->players) {
@@ -257,7 +267,8 @@ void RaceClient::reconnect_step() {
             transport_->flush();
         }
         close(std::string("disconnected: could not ") + (rejoining_ ? "join" : "reconnect") + " within " +
-              std::to_string(window_s) + " s");
+                  std::to_string(window_s) + " s",
+              proto::CloseCode::local_connection_lost);
         return;
     }
     if (!need_connection_ || now_us_ < next_attempt_us_) return;
@@ -370,7 +381,7 @@ void RaceClient::update(std::uint64_t now_us, const InputSource& input) {
     reconcile_pending_ = false;
     if (state_ == ClientState::waiting_welcome && config_.welcome_timeout_s > 0 &&
         now_us_ - hello_sent_us_ > static_cast<std::uint64_t>(config_.welcome_timeout_s * 1e6)) {
-        leave("no welcome within " + std::to_string(config_.welcome_timeout_s) + " s");
+        leave("no welcome within " + std::to_string(config_.welcome_timeout_s) + " s", proto::CloseCode::local_no_welcome);
     }
     if (state_ == ClientState::closed || state_ == ClientState::reconnecting || !have_world_ || slot_ < 0) {
         transport_->flush();

@@ -115,7 +115,7 @@ public:
     /// Handles the network and runs the prediction ticks due by `now_us`.
     void update(std::uint64_t now_us, const InputSource& input);
     /// Says goodbye and closes.
-    void leave(const std::string& reason);
+    void leave(const std::string& reason, proto::CloseCode why = proto::CloseCode::local_left);
 
     ClientState state() const { return state_; }
     /// The track being raced: the one the Welcome named (before it, the
@@ -123,6 +123,10 @@ public:
     const Scene& scene() const { return *scene_; }
     /// Why the client closed (refusal, goodbye, disconnect, error).
     const std::string& close_reason() const { return close_reason_; }
+    /// Why it closed, as a number: the server's code (Refuse: 2000-2999,
+    /// Goodbye: 1000-1999 or 4000-4999) or the client's own (3000-3999);
+    /// proto::CloseCode, docs/PROTOCOL.md "Close codes". 0 while open.
+    std::uint16_t close_code() const { return close_code_; }
     int slot() const { return slot_; }
     bool spectating() const { return spectating_; }
     std::uint32_t race_number() const { return race_number_; }
@@ -159,7 +163,7 @@ private:
     void reconcile(const proto::WorldSnapshot& snap);
     void run_tick(const InputSource& input);
     void send_inputs();
-    void close(const std::string& reason);
+    void close(const std::string& reason, proto::CloseCode why);
     void adjust_clock(proto::RacePhase phase, std::int16_t input_margin_ticks);
     void send_hello();
     /// Forgets the prediction and snapshots: the next snapshot restarts them.
@@ -190,6 +194,9 @@ private:
     bool no_hello_ = false;  // the server's Goodbye said it never got our Hello
     ClientState state_ = ClientState::connecting;
     std::string close_reason_;
+    std::uint16_t close_code_ = 0;
+    /// The code of the server's Goodbye (0: none), kept until the disconnect.
+    std::uint16_t server_code_ = 0;
     int slot_ = -1;
     bool spectating_ = false;
     proto::RacePhase phase_ = proto::RacePhase::lobby;

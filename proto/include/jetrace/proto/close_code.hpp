@@ -23,6 +23,16 @@ enum class CloseCode : std::uint16_t {
     /// The lobby waited its timeout for enough players and cancelled the race.
     lobby_cancelled = 1003,
 
+    // 3000-3999: never on the wire: why a client closed by itself.
+    /// The program asked it to leave (RaceClient::leave).
+    local_left = 3000,
+    /// The server's track or physics is not one this client has.
+    local_incompatible = 3001,
+    /// No Welcome within the welcome timeout.
+    local_no_welcome = 3002,
+    /// The connection could not be made, or dropped and could not be made again.
+    local_connection_lost = 3003,
+
     // 2000-2999: the server refused the Hello (the client may not just retry).
     refused_version = 2000,
     refused_token = 2001,
@@ -44,12 +54,13 @@ enum class CloseCode : std::uint16_t {
 };
 
 /// Ranges of CloseCode (a code this build does not know still falls in one).
-enum class CloseClass : std::uint8_t { unspecified, normal, refused, remote_fault, other };
+enum class CloseClass : std::uint8_t { unspecified, normal, refused, local, remote_fault, other };
 
 inline constexpr CloseClass close_class(std::uint16_t code) {
     if (code == 0) return CloseClass::unspecified;
     if (code >= 1000 && code < 2000) return CloseClass::normal;
     if (code >= 2000 && code < 3000) return CloseClass::refused;
+    if (code >= 3000 && code < 4000) return CloseClass::local;
     if (code >= 4000 && code < 5000) return CloseClass::remote_fault;
     return CloseClass::other;
 }
