@@ -7,7 +7,7 @@ const [url, tickText, expectedPath, ghostPath, shotPath] = process.argv.slice(2)
 const tick = Number(tickText);
 const expected = JSON.parse(readFileSync(expectedPath, 'utf8'));
 const expectedGhost = JSON.parse(readFileSync(ghostPath, 'utf8'));
-const guard = { timeout: 30000 };  // a bound on waiting, not a timed assertion
+const guard = { timeout: 90000 };  // a bound on waiting, not a timed assertion
 
 function check(ok, what) {
   if (!ok) throw new Error('FAILED: ' + what);
@@ -64,6 +64,10 @@ const browser = await puppeteer.launch({
   headless: true,
   args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--window-size=1280,720'],
   defaultViewport: { width: 1280, height: 720 },
+  // Chromium's start (SwiftShader, a fresh profile) took over puppeteer's
+  // default 30 s once on a loaded 2-core machine: wait longer for it.
+  timeout: 120000,
+  protocolTimeout: 120000,
 });
 try {
   const page = await openPage(browser);
