@@ -9,7 +9,6 @@
 namespace jetrace::client {
 
 namespace {
-constexpr std::uint64_t kMaxCatchUp_us = 250000;
 
 }  // namespace
 
@@ -30,7 +29,7 @@ void RaceClient::init() {
     assert(!scenes_.empty());
     for (const Scene* s : scenes_) identities_.push_back(s->track.identity());
     scene_ = scenes_.front();
-    tick_us_ = 1e6 / scene_->physics.tick_rate_hz;
+    clock_.set_period(1e6 / scene_->physics.tick_rate_hz);
     predictor_.reset();
     for (auto& r : received_) r.first = proto::kNoTick;
 }
@@ -127,7 +126,7 @@ void RaceClient::on_message(const proto::Message& m) {
         } else {
             if (chosen != scene_) predictor_.clear_scratch();  // it holds the other track's triangles
             scene_ = chosen;
-            tick_us_ = 1e6 / chosen->physics.tick_rate_hz;
+            clock_.set_period(1e6 / chosen->physics.tick_rate_hz);
             if (state_ == ClientState::reconnecting) {
                 ++stats_.reconnects;
                 reset_world();  // the server's world went on without us
@@ -201,9 +200,10 @@ void RaceClient::on_snapshot(const proto::Snapshot& s) {
         // estimated lead, which update() catches up right away.
         predictor_.start(snap.state);
         have_world_ = true;
-        const double lead = rtt_ms() * 1000.0 / tick_us_ + config_.target_margin_ticks + 2.0;
-        const auto lead_us = static_cast<std::uint64_t>(std::min(lead, 30.0) * tick_us_);
-        next_tick_us_ = now_us_ > lead_us ? now_us_ - lead_us : 0;
+        const double lead = rtt_ms() * 1000.0 / clock_.period_us() + config_.target_margin_ticks + 2.0;
+        const auto lead_us = static_cast<std::uint64_t>(std::min(lead, 30.0) * clock_.period_us());
+        clock_.restart(now_us_);
+        clock_.bring_forward(lead_us);
         state_ = ClientState::racing;
         return;
     }
@@ -293,7 +293,7 @@ void RaceClient::reconcile(const proto::WorldSnapshot& snap) {
     if (o.resynced) {
         // Behind the server: the clock catches up.
         ++stats_.clock_resyncs;
-        next_tick_us_ = now_us_;
+        clock_.restart(now_us_);
         return;
     }
     if (o.corrected) {
@@ -309,13 +309,12 @@ void RaceClient::reconcile(const proto::WorldSnapshot& snap) {
 void RaceClient::adjust_clock(proto::RacePhase phase, std::int16_t input_margin_ticks) {
     if (phase != proto::RacePhase::countdown && phase != proto::RacePhase::racing) return;
     if (input_margin_ticks == -32768) return;  // no input received yet
-    const double sigma_ticks = transport_->peer_stats(0).rtt_variance_ms * 1000.0 / tick_us_;
+    const double sigma_ticks = transport_->peer_stats(0).rtt_variance_ms * 1000.0 / clock_.period_us();
     const double target = config_.target_margin_ticks + config_.jitter_margin_sigmas * sigma_ticks;
     const double error = input_margin_ticks - target;
     if (error < -6.0) {
         // Inputs arrive late: jump ahead rather than drift.
-        const auto jump_us = static_cast<std::uint64_t>(std::min(-error, 30.0) * tick_us_);
-        next_tick_us_ = next_tick_us_ > jump_us ? next_tick_us_ - jump_us : 0;
+        clock_.bring_forward(static_cast<std::uint64_t>(std::min(-error, 30.0) * clock_.period_us()));
         ++stats_.clock_resyncs;
         clock_adjust_ = 0;
         return;
@@ -387,12 +386,10 @@ void RaceClient::update(std::uint64_t now_us, const InputSource& input) {
         transport_->flush();
         return;
     }
-    if (now_us > next_tick_us_ + kMaxCatchUp_us) next_tick_us_ = now_us - kMaxCatchUp_us;
+    clock_.skip_backlog(now_us);
     int ran = 0;
-    const double step_us = tick_us_ * (1.0 + clock_adjust_);
-    while (now_us >= next_tick_us_) {
+    while (clock_.pop(now_us, 1.0 + clock_adjust_)) {
         run_tick(input);
-        next_tick_us_ += static_cast<std::uint64_t>(step_us);
         ++ran;
     }
     // Inputs go out at most every `input_interval` ticks, with every input
@@ -412,7 +409,7 @@ Vec3 RaceClient::visual_position(int slot) const {
     // The render tick trails the newest snapshot by the interpolation delay,
     // advancing with the client's clock between snapshots.
     const double interval = static_cast<double>(scene_->physics.tick_rate_hz) / snapshot_rate_hz_;
-    const double since = static_cast<double>(now_us_ - latest_at_us_) / tick_us_;
+    const double since = static_cast<double>(now_us_ - latest_at_us_) / clock_.period_us();
     const double render = newest_snapshot_tick_ + since - config_.interpolation_snapshots * interval;
     // The two stored snapshots around the render tick.
     const std::pair<std::uint32_t, proto::WorldSnapshot>* a = nullptr;

@@ -38,7 +38,7 @@ RaceServer::RaceServer(const ServerConfig& config, const Scene& scene, net::Tran
     : config_(config),
       scene_(scene),
       transport_(transport),
-      tick_us_(1000000u / static_cast<std::uint64_t>(scene.physics.tick_rate_hz)),
+      clock_(1e6 / scene.physics.tick_rate_hz),
       slot_peer_(static_cast<std::size_t>(config.max_players), kNoPeer) {
     world_ = make_world(config_.max_players, config_.laps);
     if (config_.connect_key) {
@@ -281,7 +281,7 @@ int RaceServer::update(std::uint64_t now_us) {
     now_us_ = now_us;
     if (!started_clock_) {
         started_clock_ = true;
-        next_tick_us_ = now_us;
+        clock_.restart(now_us);
     }
     events_.clear();
     transport_.service(now_us / 1000, events_);
@@ -300,11 +300,9 @@ int RaceServer::update(std::uint64_t now_us) {
     check_drain();
 
     int stepped = 0;
-    // Never try to catch up more than a quarter second: skip instead.
-    if (now_us > next_tick_us_ + 250000) next_tick_us_ = now_us - 250000;
-    while (!done_ && now_us >= next_tick_us_) {
+    clock_.skip_backlog(now_us);
+    while (!done_ && clock_.pop(now_us)) {
         tick();
-        next_tick_us_ += tick_us_;
         ++stepped;
     }
     transport_.flush();

@@ -9,6 +9,7 @@
 #include "jetrace/net/transport.hpp"
 #include "jetrace/proto/messages.hpp"
 #include "jetrace/proto/world_codec.hpp"
+#include "jetrace/tick_clock.hpp"
 #include "jetrace/world.hpp"
 
 #include "jetrace/client/predictor.hpp"
@@ -206,8 +207,7 @@ private:
 
     // Clock.
     std::uint64_t now_us_ = 0;
-    std::uint64_t next_tick_us_ = 0;
-    double tick_us_ = 0;
+    TickClock clock_{1e6 / 120};
     double clock_adjust_ = 0;
     bool have_world_ = false;
 

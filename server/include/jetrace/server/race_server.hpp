@@ -16,6 +16,7 @@
 #include "jetrace/server/input_queue.hpp"
 #include "jetrace/server/race_observer.hpp"
 #include "jetrace/server/snapshot_history.hpp"
+#include "jetrace/tick_clock.hpp"
 #include "jetrace/value_range.hpp"
 #include "jetrace/world.hpp"
 
@@ -256,8 +257,7 @@ private:
     ServerConfig config_;
     const Scene& scene_;
     net::Transport& transport_;
-    std::uint64_t tick_us_;
-    std::uint64_t next_tick_us_ = 0;
+    TickClock clock_;
     bool started_clock_ = false;
     std::uint64_t now_us_ = 0;
 
