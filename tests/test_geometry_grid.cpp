@@ -150,7 +150,7 @@ void check_grid_against_brute(const Track& track, const std::vector<Vec3>& centr
             continue;
         }
         // The resolver's path: gather_candidates (sorted, ascending, no duplicates).
-        gather_candidates(grid, track, Broadphase::grid, c, kQueryRadius, cand);
+        gather_candidates({track, grid, Broadphase::grid, PhysicsSettings{}}, c, kQueryRadius, cand);
         if (!std::is_sorted(cand.triangles.begin(), cand.triangles.end()) ||
             std::adjacent_find(cand.triangles.begin(), cand.triangles.end()) != cand.triangles.end() ||
             !std::includes(cand.triangles.begin(), cand.triangles.end(), brute[qi].begin(), brute[qi].end())) {
@@ -359,8 +359,9 @@ void plane_is_found(const Plane& plane, double L, double cell_size, std::mt19937
             }
         }
         for (Broadphase bp : {Broadphase::grid, Broadphase::brute_force}) {
-            gather_candidates(grid, plane.track, bp, c, r + ps.contact_skin_m + 0.5, cand);
-            find_contacts(plane.track, cand, ps, c, contacts);
+            const TrackQuery q{plane.track, grid, bp, ps};
+            gather_candidates(q, c, r + ps.contact_skin_m + 0.5, cand);
+            find_contacts(q, cand, c, contacts);
             bool along_normal = false;
             for (int k = 0; k < contacts.count; ++k) along_normal |= (contacts.normal[k] - plane.normal).norm() < 1e-9;
             if (!along_normal) {

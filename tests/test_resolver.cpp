@@ -484,7 +484,7 @@ TEST(Resolver, PushOutContactsEqualFindContactsWhateverTheHint) {
         ResolveStats r[2];
         for (int hint = 0; hint < 2; ++hint) {
             Candidates cand;
-            r[hint] = resolve(sc.track, sc.grid, sc.broadphase, ps, from, p[hint], vel[hint], cand, c[hint], hint == 1);
+            r[hint] = resolve({sc.track, sc.grid, sc.broadphase, ps}, {from, p[hint], vel[hint]}, cand, c[hint], hint == 1);
         }
         ASSERT_TRUE(same(p[0], p[1]) && same(vel[0], vel[1])) << "drop " << i << ": the hint changed the result";
         ASSERT_EQ(r[0].pushes, r[1].pushes) << "drop " << i;
@@ -493,9 +493,9 @@ TEST(Resolver, PushOutContactsEqualFindContactsWhateverTheHint) {
             if (!r[hint].found_contacts) continue;
             ++found;
             Candidates cand;
-            gather_candidates(sc.grid, sc.track, sc.broadphase, p[hint], ps.car_radius_m + ps.contact_skin_m, cand);
+            gather_candidates({sc.track, sc.grid, sc.broadphase, ps}, p[hint], ps.car_radius_m + ps.contact_skin_m, cand);
             Contacts expected;
-            find_contacts(sc.track, cand, ps, p[hint], expected);
+            find_contacts({sc.track, sc.grid, sc.broadphase, ps}, cand, p[hint], expected);
             ASSERT_EQ(c[hint].count, expected.count) << "drop " << i << ", hint " << hint;
             for (int k = 0; k < expected.count; ++k) {
                 ASSERT_TRUE(same(c[hint].normal[k], expected.normal[k])) << "drop " << i << ", contact " << k;
@@ -526,16 +526,16 @@ TEST(Resolver, PushOutResultDoesNotDependOnScratch) {
         const Vec3 start(pushed_x - 0.002, 0, 0);
         Candidates tight;
         tight.lookahead = Vec3(-0.01, 0, 0);
-        gather_candidates(sc.grid, sc.track, sc.broadphase, Vec3(pushed_x, 0, 0), reach + 0.0001, tight);
+        gather_candidates({sc.track, sc.grid, sc.broadphase, ps}, Vec3(pushed_x, 0, 0), reach + 0.0001, tight);
         Vec3 p = start, vel(-1, 0, 0);
         Contacts c;
-        const ResolveStats s = resolve(sc.track, sc.grid, sc.broadphase, ps, start, p, vel, tight, c);
+        const ResolveStats s = resolve({sc.track, sc.grid, sc.broadphase, ps}, {start, p, vel}, tight, c);
         ASSERT_EQ(s.pushes, 1);
         ASSERT_TRUE(s.found_contacts);
         Candidates fresh;
-        gather_candidates(sc.grid, sc.track, sc.broadphase, p, reach + 1.0, fresh);
+        gather_candidates({sc.track, sc.grid, sc.broadphase, ps}, p, reach + 1.0, fresh);
         Contacts expected;
-        find_contacts(sc.track, fresh, ps, p, expected);
+        find_contacts({sc.track, sc.grid, sc.broadphase, ps}, fresh, p, expected);
         EXPECT_EQ(expected.count, 2);
         EXPECT_EQ(c.count, expected.count) << "the clear pass missed a contact beyond its candidates";
     }
@@ -563,7 +563,7 @@ TEST(Resolver, PushOutResultDoesNotDependOnScratch) {
             for (int hint = 0; hint < 2; ++hint) {
                 Candidates cand;
                 Contacts c;
-                s[hint] = resolve(sc.track, sc.grid, sc.broadphase, ps, p, pos[hint], vel[hint], cand, c, hint == 1);
+                s[hint] = resolve({sc.track, sc.grid, sc.broadphase, ps}, {p, pos[hint], vel[hint]}, cand, c, hint == 1);
             }
             pushed += s[0].pushes > 0 ? 1 : 0;
             differ += (s[0].pushes != s[1].pushes || !same(pos[0], pos[1]) || !same(vel[0], vel[1])) ? 1 : 0;

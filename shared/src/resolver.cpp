@@ -8,18 +8,17 @@
 
 namespace jetrace {
 
-void gather_candidates(const UniformGrid& grid, const Track& track, Broadphase bp, const Vec3& center,
-                       double radius_m, Candidates& out) {
+void gather_candidates(const TrackQuery& q, const Vec3& center, double radius_m, Candidates& out) {
     out.region = Aabb::around(center, radius_m);
     out.region.min += out.lookahead.cwiseMin(Vec3::Zero());
     out.region.max += out.lookahead.cwiseMax(Vec3::Zero());
     out.triangles.clear();
     out.boxes.clear();
-    out.all = bp == Broadphase::brute_force;
+    out.all = q.broadphase == Broadphase::brute_force;
     if (out.all) return;
     const Vec3 slack(kBoxSlack_m, kBoxSlack_m, kBoxSlack_m);
     const Aabb query{out.region.min - slack, out.region.max + slack};
-    grid.for_each_candidate(query, [&](std::uint32_t t) { out.triangles.push_back(t); });
+    q.grid.for_each_candidate(query, [&](std::uint32_t t) { out.triangles.push_back(t); });
     // Canonical order: ascending triangle index, the brute-force order. The
     // result of a step then does not depend on which cells were visited or
     // on how large the gathered region was, only on the geometry.
@@ -28,12 +27,40 @@ void gather_candidates(const UniformGrid& grid, const Track& track, Broadphase b
     // every triangle bucketed in the cells it touches).
     std::size_t kept = 0;
     for (const std::uint32_t t : out.triangles) {
-        const Aabb b = track.triangles[t].bounds();
+        const Aabb b = q.track.triangles[t].bounds();
         if (!b.overlaps(query)) continue;
         out.triangles[kept++] = t;
         out.boxes.push_back(b);
     }
     out.triangles.resize(kept);
+}
+
+GatherReach gather_reach(const PhysicsSettings& s, GatherFor why, double motion_m) {
+    switch (why) {
+        case GatherFor::contacts: {
+            const double cover = s.car_radius_m + s.contact_skin_m;
+            return {cover, cover + kGatherMargin_m};
+        }
+        case GatherFor::sweep: {
+            const double cover = sweep_reach(s, motion_m);
+            return {cover, cover + kGatherMargin_m};
+        }
+        case GatherFor::step: break;
+    }
+    // A step: wide enough for the step's sweep too (its motion is about
+    // motion_m; kGatherMargin_m absorbs the step's acceleration), so that
+    // the sweep does not gather again.
+    const double reach = s.car_radius_m + s.contact_skin_m + motion_m + kGatherMargin_m;
+    const double gather =
+        s.collision_mode == CollisionMode::swept ? std::max(reach, sweep_reach(s, motion_m) + kGatherMargin_m) : reach;
+    return {reach - kGatherMargin_m, gather};
+}
+
+Vec3 gather_lookahead(const PhysicsSettings& s, const Vec3& velocity, double travel_m) {
+    Vec3 lookahead = velocity * (s.dt_s() * kGatherLookahead_steps);
+    const double ahead = travel_m * kGatherLookahead_steps;
+    if (ahead > kGatherLookaheadMax_m) lookahead *= kGatherLookaheadMax_m / ahead;
+    return lookahead;
 }
 
 namespace {
@@ -72,14 +99,16 @@ Vec3 contact_normal(const Triangle& t, const ClosestPoint& cp, const Vec3& p, do
 // first contact, stops it there (epsilon clear), removes its velocity into
 // the surface, and slides the rest of the motion along it; up to
 // sweep_contacts times. Returns the contacts met.
-int sweep_motion(const Track& track, const UniformGrid& grid, Broadphase bp, const PhysicsSettings& s,
-                 const Vec3& from, Vec3& position, Vec3& velocity, Candidates& cand) {
+int sweep_motion(const TrackQuery& q, const SphereMotion& car, Candidates& cand) {
+    const PhysicsSettings& s = q.physics;
+    const Track& track = q.track;
+    Vec3& position = car.position;
+    Vec3& velocity = car.velocity;
     const double r = s.car_radius_m;
-    Vec3 p = from;
-    Vec3 d = position - from;
+    Vec3 p = car.from;
+    Vec3 d = position - car.from;
     // One gather covers every slide and the push-out that follows.
-    const double reach = sweep_reach(s, std::sqrt(d.squaredNorm()));
-    keep_covered(grid, track, bp, from, reach, cand);
+    keep_covered(q, car.from, gather_reach(s, GatherFor::sweep, std::sqrt(d.squaredNorm())), cand);
     int hits = 0;
     while (true) {
         SweepHit hit;
@@ -114,12 +143,11 @@ int sweep_motion(const Track& track, const UniformGrid& grid, Broadphase bp, con
 
 }  // namespace
 
-void find_contacts(const Track& track, const Candidates& cand, const PhysicsSettings& s, const Vec3& center,
-                   Contacts& out) {
+void find_contacts(const TrackQuery& q, const Candidates& cand, const Vec3& center, Contacts& out) {
     out.clear();
-    const double reach = s.car_radius_m + s.contact_skin_m;
+    const double reach = q.physics.car_radius_m + q.physics.contact_skin_m;
     const double reach2 = reach * reach;
-    for_each(track, cand, [&](const Triangle& t, std::size_t k) {
+    for_each(q.track, cand, [&](const Triangle& t, std::size_t k) {
         ClosestPoint cp;
         if (!cand.may_touch(k, center, reach) || !closest_point_within(center, t, reach, cp)) return true;
         const double d2 = (center - cp.point).squaredNorm();
@@ -143,9 +171,11 @@ namespace {
 // gathered region, the candidates are gathered again around it and the pass
 // resumes after the triangle it was at. The triangles it skips were checked
 // at positions the old region covered, as brute force would have.
-int push_pass(const Track& track, const UniformGrid& grid, Broadphase bp, const PhysicsSettings& s,
-              const Vec3& previous_position, Vec3& position, Vec3& velocity, Candidates& cand, bool collect,
-              Contacts& contacts) {
+int push_pass(const TrackQuery& q, const SphereMotion& car, Candidates& cand, bool collect, Contacts& contacts) {
+    const PhysicsSettings& s = q.physics;
+    const Track& track = q.track;
+    Vec3& position = car.position;
+    Vec3& velocity = car.velocity;
     const double r = s.car_radius_m;
     const double r2 = r * r;
     const double target = r + s.resolver_epsilon_m;
@@ -180,12 +210,12 @@ int push_pass(const Track& track, const UniformGrid& grid, Broadphase bp, const 
             continue;
         }
         reach = r;
-        const Vec3 n = contact_normal(t, cp, position, std::sqrt(d2), previous_position);
+        const Vec3 n = contact_normal(t, cp, position, std::sqrt(d2), car.from);
         position = cp.point + n * target;
         const double vn = velocity.dot(n);
         if (vn < 0.0) velocity -= n * vn;  // inelastic: no velocity into the surface
         ++pushes;
-        if (keep_covered(grid, track, bp, position, query_radius, cand) && !cand.all) {
+        if (keep_covered(q, position, gather_reach(s, GatherFor::contacts), cand) && !cand.all) {
             k = static_cast<std::size_t>(std::upper_bound(cand.triangles.begin(), cand.triangles.end(), index) -
                                          cand.triangles.begin());
         }
@@ -196,29 +226,31 @@ int push_pass(const Track& track, const UniformGrid& grid, Broadphase bp, const 
 
 }  // namespace
 
-ResolveStats resolve(const Track& track, const UniformGrid& grid, Broadphase bp, const PhysicsSettings& s,
-                     const Vec3& previous_position, Vec3& position, Vec3& velocity, Candidates& cand,
-                     Contacts& contacts, bool expect_push) {
+ResolveStats resolve(const TrackQuery& q, const SphereMotion& car, Candidates& cand, Contacts& contacts,
+                     bool expect_push) {
+    const PhysicsSettings& s = q.physics;
+    Vec3& position = car.position;
+    Vec3& velocity = car.velocity;
     ResolveStats stats;
     const double r = s.car_radius_m;
     const double r2 = r * r;
-    const double query_radius = r + s.contact_skin_m;
-    if (needs_sweep(s, previous_position, position)) {
+    const GatherReach near = gather_reach(s, GatherFor::contacts);
+    if (needs_sweep(s, car.from, position)) {
         // Moving more than half the radius: the push-out alone could be
         // fooled by a thin wall (docs/ACCURACY.md). Slower, it cannot: a
         // sphere that started clear ends at least r/2 from every triangle
         // on the side it came from.
-        stats.sweep_hits = sweep_motion(track, grid, bp, s, previous_position, position, velocity, cand);
+        stats.sweep_hits = sweep_motion(q, car, cand);
         // A sweep that met nothing left the car where it was (the step
         // rounded it before the push-out).
         if (stats.sweep_hits > 0 && s.quantize_state) quantize_motion(position, velocity);
     }
-    keep_covered(grid, track, bp, position, query_radius, cand);
+    keep_covered(q, position, near, cand);
     for (int pass = 0; pass < s.resolver_passes; ++pass) {
         // A pass expected to push skips the contacts (they would be stale);
         // the pass after it finds them.
         const bool collect = !(expect_push && pass == 0);
-        const int pushes = push_pass(track, grid, bp, s, previous_position, position, velocity, cand, collect, contacts);
+        const int pushes = push_pass(q, car, cand, collect, contacts);
         if (pushes == 0) {
             stats.found_contacts = collect;
             break;
@@ -234,12 +266,12 @@ ResolveStats resolve(const Track& track, const UniformGrid& grid, Broadphase bp,
         // gathered.
         if (s.quantize_state) {
             quantize_motion(position, velocity);
-            keep_covered(grid, track, bp, position, query_radius, cand);
+            keep_covered(q, position, near, cand);
         }
     }
     if (stats.passes == s.resolver_passes) {
         // Did the last pass leave the car clear?
-        for_each(track, cand, [&](const Triangle& t, std::size_t k) {
+        for_each(q.track, cand, [&](const Triangle& t, std::size_t k) {
             ClosestPoint cp;
             if (!cand.may_touch(k, position, r) || !closest_point_within(position, t, r, cp)) return true;
             if ((position - cp.point).squaredNorm() < r2) {

@@ -57,9 +57,9 @@ inline void ensure_scratch(std::size_t n, StepScratch& s) {
 // line so that the common case, the contacts already known, costs a
 // comparison and no call).
 [[gnu::noinline]] void find_contacts_at(const Scene& sc, CarScratch& cs, const Vec3& position) {
-    keep_covered(sc.grid, sc.track, sc.broadphase, position, sc.physics.car_radius_m + sc.physics.contact_skin_m,
-                 cs.candidates);
-    find_contacts(sc.track, cs.candidates, sc.physics, position, cs.contacts);
+    const TrackQuery q = sc.query();
+    keep_covered(q, position, gather_reach(sc.physics, GatherFor::contacts), cs.candidates);
+    find_contacts(q, cs.candidates, position, cs.contacts);
     cs.contacts_at = position;
     cs.contacts_valid = true;
 }
@@ -100,20 +100,8 @@ void drive_phase(const Scene& sc, WorldState& st, std::span<const Input> inputs,
             in = inputs[i];
         }
         const double travel = car.velocity.norm() * ps.dt_s();
-        const double reach = ps.car_radius_m + ps.contact_skin_m + travel + kGatherMargin_m;
-        Candidates& cand = cs.candidates;
-        const double ahead = travel * kGatherLookahead_steps;
-        cand.lookahead = car.velocity * (ps.dt_s() * kGatherLookahead_steps);
-        if (ahead > kGatherLookaheadMax_m) cand.lookahead *= kGatherLookaheadMax_m / ahead;
-        if (!cand.covers(car.position, reach - kGatherMargin_m)) {
-            // Wide enough for this step's sweep too (its motion is about
-            // `travel`; kGatherMargin_m absorbs the step's acceleration), so
-            // that the sweep does not gather again.
-            const double gather_m = ps.collision_mode == CollisionMode::swept
-                                        ? std::max(reach, sweep_reach(ps, travel) + kGatherMargin_m)
-                                        : reach;
-            gather_candidates(sc.grid, sc.track, sc.broadphase, car.position, gather_m, cand);
-        }
+        cs.candidates.lookahead = gather_lookahead(ps, car.velocity, travel);
+        keep_covered(sc.query(), car.position, gather_reach(ps, GatherFor::step, travel), cs.candidates);
         ensure_contacts(sc, cs, car.position);
         const Vec3 v0 = car.velocity;
         apply_controls_and_forces(ps, cs.contacts, in, car);
@@ -142,8 +130,8 @@ void resolve_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
             !needs_sweep(sc.physics, cs.previous_position, car.position)) {
             continue;
         }
-        const ResolveStats r = resolve(sc.track, sc.grid, sc.broadphase, sc.physics, cs.previous_position,
-                                       car.position, car.velocity, cs.candidates, cs.contacts, cs.pushed_last);
+        const ResolveStats r = resolve(sc.query(), {cs.previous_position, car.position, car.velocity}, cs.candidates,
+                                       cs.contacts, cs.pushed_last);
         cs.pushed_last = r.pushes > 0;
         // The pass that found the car clear found its contacts there too.
         cs.contacts_valid = r.found_contacts;

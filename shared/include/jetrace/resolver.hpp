@@ -14,6 +14,23 @@ namespace jetrace {
 /// How the resolver finds the triangles near a car.
 enum class Broadphase : std::uint8_t { grid, brute_force };
 
+/// What every resolver query reads: the track, its grid, how candidates are
+/// found and the physics settings (Scene::query() makes one).
+struct TrackQuery {
+    const Track& track;
+    const UniformGrid& grid;
+    Broadphase broadphase;
+    const PhysicsSettings& physics;
+};
+
+/// The car a resolve() moves: where it was before this step's motion, where
+/// the motion left it, and its velocity (both updated).
+struct SphereMotion {
+    const Vec3& from;
+    Vec3& position;
+    Vec3& velocity;
+};
+
 /// Slack added to every bounding-box test of a candidate (unit: m), so that
 /// rounding can never make a box test reject a triangle the exact distance
 /// test would accept. Far below the position quantum (1/1024 m).
@@ -70,21 +87,40 @@ inline constexpr double kGatherLookaheadMax_m = 50.0;
 /// half-edge `radius_m` at `center` and the same cube moved by
 /// out.lookahead (grid query, then an exact box test), in ascending index
 /// order; or marks all triangles (brute force).
-void gather_candidates(const UniformGrid& grid, const Track& track, Broadphase bp, const Vec3& center,
-                       double radius_m, Candidates& out);
+void gather_candidates(const TrackQuery& q, const Vec3& center, double radius_m, Candidates& out);
 
-/// Gathers the candidates again around `p`, kGatherMargin_m wider, unless
-/// they already cover a sphere of `radius_m` there. True if it gathered.
-inline bool keep_covered(const UniformGrid& grid, const Track& track, Broadphase bp, const Vec3& p,
-                         double radius_m, Candidates& cand) {
-    if (cand.covers(p, radius_m)) return false;
-    gather_candidates(grid, track, bp, p, radius_m + kGatherMargin_m, cand);
+/// What a query needs its candidates for, which decides how far they reach.
+enum class GatherFor : std::uint8_t {
+    contacts,  ///< the contacts where the car is (and the push-out's passes)
+    step,      ///< a step moving the car by `motion_m`, its contacts and its sweep
+    sweep,     ///< a sweep along a motion of `motion_m`, and the push-out after it
+};
+
+/// How far around a car its candidates must reach (unit: m): they are
+/// gathered again when they do not cover a sphere of `cover_m`, and then
+/// over a cube of half-edge `gather_m`, so that small moves keep them valid.
+struct GatherReach {
+    double cover_m;
+    double gather_m;
+};
+
+/// The gather policy, the one place that decides candidate reach.
+GatherReach gather_reach(const PhysicsSettings& s, GatherFor why, double motion_m = 0.0);
+
+/// The look-ahead a car moving at `velocity` gathers with (see
+/// Candidates::lookahead), `travel_m` being its motion in one step.
+Vec3 gather_lookahead(const PhysicsSettings& s, const Vec3& velocity, double travel_m);
+
+/// Gathers the candidates again around `p` unless they cover `reach`.
+/// True if it gathered.
+inline bool keep_covered(const TrackQuery& q, const Vec3& p, const GatherReach& reach, Candidates& cand) {
+    if (cand.covers(p, reach.cover_m)) return false;
+    gather_candidates(q, p, reach.gather_m, cand);
     return true;
 }
 
 /// Contacts within radius + skin of `center` among the candidates.
-void find_contacts(const Track& track, const Candidates& cand, const PhysicsSettings& s, const Vec3& center,
-                   Contacts& out);
+void find_contacts(const TrackQuery& q, const Candidates& cand, const Vec3& center, Contacts& out);
 
 /// True if resolve() sweeps a car that moved from `from` to `to`: in
 /// CollisionMode::swept, a motion of more than half the radius.
@@ -132,8 +168,7 @@ struct ResolveStats {
 /// `expect_push` (a car pushed in its last step, such as one pressed into a
 /// corner) only saves work: the first pass then skips the contacts, which a
 /// pushing pass would throw away. Results never depend on it.
-ResolveStats resolve(const Track& track, const UniformGrid& grid, Broadphase bp, const PhysicsSettings& s,
-                     const Vec3& previous_position, Vec3& position, Vec3& velocity, Candidates& cand,
-                     Contacts& contacts, bool expect_push = false);
+ResolveStats resolve(const TrackQuery& q, const SphereMotion& car, Candidates& cand, Contacts& contacts,
+                     bool expect_push = false);
 
 }  // namespace jetrace

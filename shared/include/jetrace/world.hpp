@@ -23,6 +23,9 @@ struct Scene {
     PhysicsSettings physics;
     Broadphase broadphase = Broadphase::grid;
 
+    /// What the resolver reads (references into this scene).
+    TrackQuery query() const { return {track, grid, broadphase, physics}; }
+
     /// Builds the grid. `physics` must be valid (see validate()).
     static Scene make(Track track, const PhysicsSettings& physics, double cell_size_m = 0.0);
 };
