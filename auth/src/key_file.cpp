@@ -49,12 +49,19 @@ bool write_file(const std::string& path, const std::string& text, mode_t mode, b
 
 }  // namespace
 
-bool load_key_file(const std::string& path, LoadedKey& out, std::string& error) {
+namespace {
+
+// Reads a regular file of at most kMaxKeyFileBytes into `text`, with its
+// mode. The error names what failed (without the path).
+bool read_key_text(const std::string& path, std::string& text, mode_t& mode, std::string& error) {
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
-    if (fd < 0) return fail(error, path, std::strerror(errno));
+    if (fd < 0) {
+        error = std::strerror(errno);
+        return false;
+    }
     struct stat st {};
-    std::string text;
     bool ok = ::fstat(fd, &st) == 0;
+    const std::string too_large = "larger than " + std::to_string(kMaxKeyFileBytes) + " bytes: not a key file";
     if (!ok) {
         error = std::strerror(errno);
     } else if (!S_ISREG(st.st_mode)) {
@@ -62,7 +69,7 @@ bool load_key_file(const std::string& path, LoadedKey& out, std::string& error) 
         error = "not a regular file";
     } else if (static_cast<std::size_t>(st.st_size) > kMaxKeyFileBytes) {
         ok = false;
-        error = "larger than " + std::to_string(kMaxKeyFileBytes) + " bytes: not a key file";
+        error = too_large;
     } else {
         text.resize(kMaxKeyFileBytes + 1);
         std::size_t len = 0;
@@ -79,11 +86,20 @@ bool load_key_file(const std::string& path, LoadedKey& out, std::string& error) 
         text.resize(len);
         if (ok && len > kMaxKeyFileBytes) {
             ok = false;
-            error = "larger than " + std::to_string(kMaxKeyFileBytes) + " bytes: not a key file";
+            error = too_large;
         }
     }
     ::close(fd);
-    if (!ok) return fail(error, path, error);
+    mode = st.st_mode;
+    return ok;
+}
+
+}  // namespace
+
+bool load_key_file(const std::string& path, LoadedKey& out, std::string& error) {
+    std::string text;
+    mode_t mode = 0;
+    if (!read_key_text(path, text, mode, error)) return fail(error, path, error);
 
     out = LoadedKey{};
     std::string_view body;
@@ -97,11 +113,11 @@ bool load_key_file(const std::string& path, LoadedKey& out, std::string& error) 
                     "not a jetrace key file (expected a line starting 'jetrace-ed25519-secret-key ' or "
                     "'jetrace-ed25519-public-key ')");
     }
-    if (out.has_secret && (st.st_mode & (S_IRWXG | S_IRWXO)) != 0) {
-        char mode[8];
-        std::snprintf(mode, sizeof mode, "%04o", static_cast<unsigned>(st.st_mode & 07777));
+    if (out.has_secret && (mode & (S_IRWXG | S_IRWXO)) != 0) {
+        char octal[8];
+        std::snprintf(octal, sizeof octal, "%04o", static_cast<unsigned>(mode & 07777));
         return fail(error, path,
-                    std::string("permissions ") + mode + " are too open for a secret key: run chmod 600 '" + path + "'");
+                    std::string("permissions ") + octal + " are too open for a secret key: run chmod 600 '" + path + "'");
     }
     const std::size_t want = out.has_secret ? kSecretKeyBytes : kPublicKeyBytes;
     const auto bytes = from_text(body, want);

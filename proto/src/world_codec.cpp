@@ -146,31 +146,35 @@ bool get_race_fields(Reader& r, const CarState* ref, CarState& c) {
     return true;
 }
 
-bool get_car(Reader& r, const CarState* ref, std::int64_t n, int rate, CarState& c) {
-    c = CarState{};
-    c.active = true;
+const char* const kQ[4] = {"orientation.w", "orientation.x", "orientation.y", "orientation.z"};
+const char* const kV[3] = {"velocity.x", "velocity.y", "velocity.z"};
+const char* const kP[3] = {"position.x", "position.y", "position.z"};
+
+// A car written in full (no active car in the baseline's slot).
+bool get_key_car(Reader& r, CarState& c) {
     Motion m{};
-    static const char* const kQ[4] = {"orientation.w", "orientation.x", "orientation.y", "orientation.z"};
-    static const char* const kV[3] = {"velocity.x", "velocity.y", "velocity.z"};
-    static const char* const kP[3] = {"position.x", "position.y", "position.z"};
-    if (!ref) {
-        for (int i = 0; i < 4; ++i)
-            if (!r.sbits(kQ[i], 16, m.q[i])) return false;
-        for (int i = 0; i < 3; ++i)
-            if (!r.sbits(kV[i], 32, m.v[i])) return false;
-        for (int i = 0; i < 3; ++i)
-            if (!r.sbits(kP[i], 32, m.p[i])) return false;
-        set_motion(m, c);
-        if (!get_race_fields(r, nullptr, c)) return false;
-        std::int64_t s = 0;
-        if (!r.sbits("best_gate_distance_m", 32, s)) return false;
-        c.best_gate_distance_m = static_cast<std::int32_t>(s);
-        std::uint64_t u = 0;
-        if (!r.bits("no_progress_ticks", 32, u)) return false;
-        c.no_progress_ticks = static_cast<std::uint32_t>(u);
-        return true;
-    }
-    const Motion b = motion_of(*ref);
+    for (int i = 0; i < 4; ++i)
+        if (!r.sbits(kQ[i], 16, m.q[i])) return false;
+    for (int i = 0; i < 3; ++i)
+        if (!r.sbits(kV[i], 32, m.v[i])) return false;
+    for (int i = 0; i < 3; ++i)
+        if (!r.sbits(kP[i], 32, m.p[i])) return false;
+    set_motion(m, c);
+    if (!get_race_fields(r, nullptr, c)) return false;
+    std::int64_t s = 0;
+    if (!r.sbits("best_gate_distance_m", 32, s)) return false;
+    c.best_gate_distance_m = static_cast<std::int32_t>(s);
+    std::uint64_t u = 0;
+    if (!r.bits("no_progress_ticks", 32, u)) return false;
+    c.no_progress_ticks = static_cast<std::uint32_t>(u);
+    return true;
+}
+
+// Orientation, velocity and position as residuals against the baseline's
+// car `ref`, n ticks older.
+bool get_motion_delta(Reader& r, const CarState& ref, std::int64_t n, int rate, CarState& c) {
+    Motion m{};
+    const Motion b = motion_of(ref);
     bool flip = false;
     if (!r.bit("orientation", flip)) return false;
     const int l = log2_ticks(n);
@@ -187,6 +191,15 @@ bool get_car(Reader& r, const CarState* ref, std::int64_t n, int rate, CarState&
         if (!r.residual(kP[i], kPosOrder, pred, kI32Min, kI32Max, m.p[i])) return false;
     }
     set_motion(m, c);
+    return true;
+}
+
+bool get_car(Reader& r, const CarState* ref, std::int64_t n, int rate, CarState& c) {
+    c = CarState{};
+    c.active = true;
+    if (!ref) return get_key_car(r, c);
+    if (!get_motion_delta(r, *ref, n, rate, c)) return false;
+    const int l = log2_ticks(n);
     bool same_race = false;
     if (!r.bit("race fields", same_race)) return false;
     if (same_race) {
@@ -256,22 +269,19 @@ bool decode_into(std::span<const std::uint8_t> bytes, const WorldSnapshot* basel
 
 }  // namespace
 
-std::vector<std::uint8_t> encode_world(const WorldSnapshot& now, const WorldSnapshot* baseline) {
+namespace {
+
+// The header: tick, tick rate, start tick and laps, in full or against the
+// baseline. Returns the ticks since the baseline (0 without one).
+std::int64_t put_header(BitWriter& w, const WorldSnapshot& now, const WorldSnapshot* baseline) {
     const WorldState& s = now.state;
-    const std::size_t slots = s.cars.size();
-    assert(slots <= static_cast<std::size_t>(kMaxSlots) && now.last_inputs.size() == slots);
-    assert(s.laps >= 0 && s.laps <= 0xFFFF);
-    assert(now.tick_rate_hz >= 1 && now.tick_rate_hz <= kMaxTickRate);
-    BitWriter w;
     std::int64_t n = 0;
-    int rate = now.tick_rate_hz;
     if (baseline) {
         const WorldState& b = baseline->state;
         assert(b.cars.size() == slots && baseline->last_inputs.size() == slots);
         assert(s.tick >= b.tick && "encode_world: baseline newer than the state");
         assert(baseline->tick_rate_hz == now.tick_rate_hz);
         n = std::int64_t{s.tick} - b.tick;
-        rate = baseline->tick_rate_hz;
         w.put_ue(static_cast<std::uint64_t>(n), kTickDeltaOrder);
         w.put_bit(s.start_tick == b.start_tick);
         if (s.start_tick != b.start_tick) w.put(s.start_tick, 32);
@@ -283,6 +293,39 @@ std::vector<std::uint8_t> encode_world(const WorldSnapshot& now, const WorldSnap
         w.put(s.start_tick, 32);
         w.put(static_cast<std::uint64_t>(s.laps), 16);
     }
+    return n;
+}
+
+// Upcoming inputs of active cars: a 3-bit count, then each input as "same
+// as the one before" (starting from the last input) or 10 bits.
+void put_upcoming(BitWriter& w, const WorldSnapshot& now) {
+    const WorldState& s = now.state;
+    for (std::size_t i = 0; i < s.cars.size(); ++i) {
+        if (!s.cars[i].active) continue;
+        const std::size_t count =
+            i < now.upcoming.size() ? std::min(now.upcoming[i].size(), kMaxUpcomingInputs) : std::size_t{0};
+        w.put(count, 3);
+        Input prev = now.last_inputs[i];
+        for (std::size_t k = 0; k < count; ++k) {
+            const Input& in = now.upcoming[i][k];
+            w.put_bit(in == prev);
+            if (!(in == prev)) w.put(in.pack(), 10);
+            prev = in;
+        }
+    }
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> encode_world(const WorldSnapshot& now, const WorldSnapshot* baseline) {
+    const WorldState& s = now.state;
+    const std::size_t slots = s.cars.size();
+    assert(slots <= static_cast<std::size_t>(kMaxSlots) && now.last_inputs.size() == slots);
+    assert(s.laps >= 0 && s.laps <= 0xFFFF);
+    assert(now.tick_rate_hz >= 1 && now.tick_rate_hz <= kMaxTickRate);
+    BitWriter w;
+    const std::int64_t n = put_header(w, now, baseline);
+    const int rate = now.tick_rate_hz;
     w.put(slots, 7);
     for (std::size_t i = 0; i < slots; ++i) {
         const CarState& car = s.cars[i];
@@ -301,21 +344,7 @@ std::vector<std::uint8_t> encode_world(const WorldSnapshot& now, const WorldSnap
         w.put_bit(input == ref_input);
         if (!(input == ref_input)) w.put(input.pack(), 10);
     }
-    // Upcoming inputs of active cars: a 3-bit count, then each input as
-    // "same as the one before" (starting from the last input) or 10 bits.
-    for (std::size_t i = 0; i < slots; ++i) {
-        if (!s.cars[i].active) continue;
-        const std::size_t count =
-            i < now.upcoming.size() ? std::min(now.upcoming[i].size(), kMaxUpcomingInputs) : std::size_t{0};
-        w.put(count, 3);
-        Input prev = now.last_inputs[i];
-        for (std::size_t k = 0; k < count; ++k) {
-            const Input& in = now.upcoming[i][k];
-            w.put_bit(in == prev);
-            if (!(in == prev)) w.put(in.pack(), 10);
-            prev = in;
-        }
-    }
+    put_upcoming(w, now);
     return w.finish();
 }
 
