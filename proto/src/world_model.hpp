@@ -4,6 +4,7 @@
 // decoding is the exact inverse of encoding on any compiler.
 #pragma once
 
+#include "jetrace/car_fields.hpp"
 #include "jetrace/hovercar.hpp"
 
 #include <algorithm>
@@ -89,14 +90,13 @@ inline bool same_race_fields(const CarState& a, const CarState& b) {
            a.respawns == b.respawns;
 }
 
-inline bool same_car(const CarState& a, const CarState& b) {
-    for (int i = 0; i < 3; ++i)
-        if (!same_bits(a.position[i], b.position[i]) || !same_bits(a.velocity[i], b.velocity[i])) return false;
-    for (int i = 0; i < 4; ++i)
-        if (!same_bits(a.orientation.coeffs()[i], b.orientation.coeffs()[i])) return false;
-    return a.active == b.active && same_race_fields(a, b) && a.best_gate_distance_m == b.best_gate_distance_m &&
-           a.no_progress_ticks == b.no_progress_ticks;
-}
+/// Every field the same, bit for bit (the one field list: car_fields.hpp).
+inline bool same_car(const CarState& a, const CarState& b) { return car_field_bits(a) == car_field_bits(b); }
+
+// The payload carries every CarState field: motion (put_car/get_car),
+// race fields (same_race_fields, put_race_fields) and progress. A field
+// added to CarState changes this count and must be given a place there.
+static_assert(kCarFieldCount == 20, "CarState gained a field: carry it in the world payload (world_codec.cpp)");
 
 /// A car's motion as wire integers: position and velocity in units of
 /// 2^-10, orientation (w, x, y, z) in units of 2^-14.

@@ -6,7 +6,10 @@
 
 #include "jetrace/hovercar.hpp"
 
+#include <array>
+#include <bit>
 #include <cstdint>
+#include <type_traits>
 
 namespace jetrace {
 
@@ -39,6 +42,24 @@ void visit_car_fields(Car& c, Visitor&& v) {
 
 /// Fields visit_car_fields() names (a Vec3 counts three, a Quat four).
 inline constexpr int kCarFieldCount = 20;
+
+/// Every field of `c` as raw bits, in visit_car_fields() order: two cars
+/// are the same, bit for bit, when these are equal.
+inline std::array<std::uint64_t, kCarFieldCount> car_field_bits(const CarState& c) {
+    std::array<std::uint64_t, kCarFieldCount> out{};
+    std::size_t i = 0;
+    visit_car_fields(c, [&](const char*, auto value) {
+        using T = std::remove_cvref_t<decltype(value)>;
+        if constexpr (std::is_same_v<T, double>) {
+            out[i++] = std::bit_cast<std::uint64_t>(value);
+        } else if constexpr (std::is_same_v<T, bool>) {
+            out[i++] = value ? 1u : 0u;
+        } else {
+            out[i++] = static_cast<std::uint32_t>(value);
+        }
+    });
+    return out;
+}
 
 // Tripwire: two bools, 10 doubles (position, velocity, orientation), 7
 // 32-bit integers and 1 double, with padding. A new field changes the size.
