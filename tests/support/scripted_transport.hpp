@@ -27,7 +27,7 @@ public:
         /// The test's clock at the call (0 without a clock) (unit: ms).
         std::uint64_t at_ms = 0;
         net::PeerId peer = 0;
-        /// A disconnect's is reliable.
+        /// Channel::reliable for a disconnect.
         net::Channel channel = net::Channel::reliable;
         std::vector<std::uint8_t> data;
     };
@@ -41,10 +41,10 @@ public:
     std::function<void(const Record&)> on_send;
 
     // The script: what the next service() hands out, in this order.
-    void connect(net::PeerId peer = 0) { pending_.push_back({net::Event::Type::connected, peer, net::Channel::reliable, {}}); }
-    void drop(net::PeerId peer = 0) { pending_.push_back({net::Event::Type::disconnected, peer, net::Channel::reliable, {}}); }
+    void connect(net::PeerId peer = 0) { script(net::Event::Type::connected, peer, net::Channel::reliable, {}); }
+    void drop(net::PeerId peer = 0) { script(net::Event::Type::disconnected, peer, net::Channel::reliable, {}); }
     void deliver(net::PeerId peer, net::Channel channel, std::vector<std::uint8_t> data) {
-        pending_.push_back({net::Event::Type::received, peer, channel, std::move(data)});
+        script(net::Event::Type::received, peer, channel, std::move(data));
     }
 
     // What happened.
@@ -57,7 +57,8 @@ public:
         return out;
     }
     bool disconnected() const {
-        return std::any_of(log_.begin(), log_.end(), [](const Record& r) { return r.kind == Record::Kind::disconnect; });
+        return std::any_of(log_.begin(), log_.end(),
+                           [](const Record& r) { return r.kind == Record::Kind::disconnect; });
     }
 
     void service(std::uint64_t /*now_ms*/, std::vector<net::Event>& events) override {
@@ -78,6 +79,9 @@ public:
     std::uint16_t local_port() const override { return 0; }
 
 private:
+    void script(net::Event::Type type, net::PeerId peer, net::Channel channel, std::vector<std::uint8_t> data) {
+        pending_.push_back({type, peer, channel, std::move(data)});
+    }
     std::uint64_t now() const { return clock_ != nullptr ? *clock_ : 0; }
 
     const std::uint64_t* clock_;
