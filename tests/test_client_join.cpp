@@ -6,10 +6,10 @@
 #include "jetrace/builtin_tracks.hpp"
 #include "jetrace/client/race_client.hpp"
 #include "jetrace/proto/messages.hpp"
+#include "support/scripted_transport.hpp"
 
 #include <gtest/gtest.h>
 
-#include <deque>
 #include <memory>
 #include <vector>
 
@@ -18,37 +18,28 @@ namespace {
 using namespace jetrace;
 using client::ClientState;
 
-// A transport that hands out the events a test queues and keeps what the
-// client sends.
-class ScriptedTransport final : public net::Transport {
+// The server's end of a scripted connection, in proto messages: it delivers
+// messages on the reliable channel and checks that every datagram the client
+// sends decodes.
+class ServerScript final : public test::ScriptedTransport {
 public:
-    std::deque<net::Event> pending;
-    std::vector<proto::Message> sent;
-    bool disconnected = false;
-
-    void service(std::uint64_t /*now_ms*/, std::vector<net::Event>& events) override {
-        while (!pending.empty()) {
-            events.push_back(std::move(pending.front()));
-            pending.pop_front();
+    ServerScript() {
+        on_send = [](const Record& r) {
+            proto::Message m;
+            std::string error;
+            EXPECT_TRUE(proto::decode(r.data, m, error)) << error;
+        };
+    }
+    void deliver(const proto::Message& m) { ScriptedTransport::deliver(0, net::Channel::reliable, proto::encode(m)); }
+    /// What the client sent, decoded, in order.
+    std::vector<proto::Message> messages() const {
+        std::vector<proto::Message> out;
+        for (const Record& r : ScriptedTransport::sent()) {
+            proto::Message m;
+            std::string error;
+            if (proto::decode(r.data, m, error)) out.push_back(std::move(m));
         }
-    }
-    bool send(net::PeerId, net::Channel, std::span<const std::uint8_t> data) override {
-        proto::Message m;
-        std::string error;
-        EXPECT_TRUE(proto::decode(data, m, error)) << error;
-        sent.push_back(m);
-        return true;
-    }
-    void disconnect(net::PeerId) override { disconnected = true; }
-    void flush() override {}
-    net::PeerStats peer_stats(net::PeerId) const override { return {}; }
-    net::Totals totals() const override { return {}; }
-    std::uint16_t local_port() const override { return 0; }
-
-    void connect() { pending.push_back({net::Event::Type::connected, 0, net::Channel::reliable, {}}); }
-    void drop() { pending.push_back({net::Event::Type::disconnected, 0, net::Channel::reliable, {}}); }
-    void deliver(const proto::Message& m) {
-        pending.push_back({net::Event::Type::received, 0, net::Channel::reliable, proto::encode(m)});
+        return out;
     }
 };
 
@@ -79,7 +70,7 @@ Input no_input(const Scene&, const WorldState&, int) { return Input{}; }
 // A client over a Connector that hands out the transports of `script` in
 // order (nullptr once they run out: "cannot connect right now").
 struct Joiner {
-    std::vector<ScriptedTransport*> opened;
+    std::vector<ServerScript*> opened;
     std::unique_ptr<client::RaceClient> client;
     std::uint64_t now_us = 0;
 
@@ -88,13 +79,13 @@ struct Joiner {
         const auto open = [this, remaining]() -> std::unique_ptr<net::Transport> {
             if (*remaining == 0) return nullptr;
             --*remaining;
-            auto t = std::make_unique<ScriptedTransport>();
+            auto t = std::make_unique<ServerScript>();
             opened.push_back(t.get());
             return t;
         };
         client = std::make_unique<client::RaceClient>(cc, scenes, open);
     }
-    ScriptedTransport& last() { return *opened.back(); }
+    ServerScript& last() { return *opened.back(); }
     /// The newest connection comes up (the client sends its Hello).
     void come_up() {
         last().connect();
@@ -110,13 +101,13 @@ struct Joiner {
 
 TEST(ClientJoin, TheWelcomePicksTheKnownTrack) {
     for (const Scene* expected : {&tracks().stadium, &tracks().ring}) {
-        ScriptedTransport t;
+        ServerScript t;
         client::RaceClient c(client::ClientConfig{}, client::KnownScenes{&tracks().stadium, &tracks().ring}, t);
         t.connect();
         c.update(1000, no_input);
         ASSERT_EQ(c.state(), ClientState::waiting_welcome);
-        ASSERT_EQ(t.sent.size(), 1u);
-        EXPECT_TRUE(std::holds_alternative<proto::Hello>(t.sent[0]));
+        ASSERT_EQ(t.messages().size(), 1u);
+        EXPECT_TRUE(std::holds_alternative<proto::Hello>(t.messages()[0]));
         t.deliver(welcome_for(*expected, 3));
         c.update(2000, no_input);
         EXPECT_EQ(c.state(), ClientState::in_lobby);
@@ -138,7 +129,7 @@ TEST(ClientJoin, AnUnknownTrackOrOtherPhysicsLeaves) {
     proto::Welcome unknown = welcome_for(tracks().stadium, 0);
     unknown.track_identity ^= 1;
     for (const Case& k : {Case{unknown, "track mismatch"}, Case{welcome_for(other, 0), "physics settings differ"}}) {
-        ScriptedTransport t;
+        ServerScript t;
         client::RaceClient c(client::ClientConfig{}, client::KnownScenes{&tracks().stadium, &tracks().ring}, t);
         t.connect();
         t.deliver(k.welcome);
@@ -146,9 +137,9 @@ TEST(ClientJoin, AnUnknownTrackOrOtherPhysicsLeaves) {
         EXPECT_EQ(c.state(), ClientState::closed);
         EXPECT_EQ(c.close_reason().rfind(k.reason, 0), 0u) << c.close_reason();
         EXPECT_EQ(c.close_code(), static_cast<std::uint16_t>(proto::CloseCode::local_incompatible));
-        EXPECT_TRUE(t.disconnected);
-        ASSERT_FALSE(t.sent.empty());
-        EXPECT_TRUE(std::holds_alternative<proto::Goodbye>(t.sent.back()));
+        EXPECT_TRUE(t.disconnected());
+        ASSERT_FALSE(t.messages().empty());
+        EXPECT_TRUE(std::holds_alternative<proto::Goodbye>(t.messages().back()));
     }
 }
 
@@ -162,7 +153,7 @@ TEST(ClientJoin, AdoptsTheServersPhysicsSettingsFromTheSameCore) {
     };
     for (const Case& k : {Case{fast, proto::physics_hash(fast), nullptr},
                           Case{fast, proto::physics_hash(fast) ^ 1, "physics settings differ from the server's (not the same physics core)"}}) {
-        ScriptedTransport t;
+        ServerScript t;
         client::RaceClient c(client::ClientConfig{}, client::KnownScenes{&tracks().ring}, t);
         t.connect();
         proto::Welcome w = welcome_for(tracks().ring, 0);
@@ -187,7 +178,7 @@ TEST(ClientJoin, AdoptsTheServersPhysicsSettingsFromTheSameCore) {
 TEST(ClientJoin, IgnoresAWelcomeWithUnusablePhysicsSettings) {
     PhysicsSettings bad;
     bad.slide_mps2 = bad.grip_mps2 + 1;  // validate() refuses: slide must be below grip
-    ScriptedTransport t;
+    ServerScript t;
     client::RaceClient c(client::ClientConfig{}, client::KnownScenes{&tracks().ring}, t);
     t.connect();
     proto::Welcome w = welcome_for(tracks().ring, 0);
@@ -221,8 +212,9 @@ TEST(ClientJoin, AConnectionThatNeverCameUpJoinsAgain) {
     ASSERT_EQ(j.opened.size(), 3u);
     j.come_up();
     EXPECT_EQ(j.client->state(), ClientState::waiting_welcome);
-    ASSERT_EQ(j.last().sent.size(), 1u);
-    const auto* hello = std::get_if<proto::Hello>(&j.last().sent[0]);
+    const std::vector<proto::Message> sent = j.last().messages();
+    ASSERT_EQ(sent.size(), 1u);
+    const auto* hello = std::get_if<proto::Hello>(&sent[0]);
     ASSERT_NE(hello, nullptr);
     EXPECT_TRUE(hello->reconnect_token.empty()) << "a join, not a reconnect";
     j.last().deliver(welcome_for(tracks().ring, 1));
@@ -291,9 +283,9 @@ TEST(ClientJoin, NoWelcomeWithinTheTimeoutLeaves) {
     EXPECT_EQ(j.client->state(), ClientState::closed);
     EXPECT_EQ(j.client->close_reason().rfind("no welcome within 3", 0), 0u) << j.client->close_reason();
     EXPECT_EQ(j.client->close_code(), static_cast<std::uint16_t>(proto::CloseCode::local_no_welcome));
-    EXPECT_TRUE(j.last().disconnected);
-    ASSERT_FALSE(j.last().sent.empty());
-    EXPECT_TRUE(std::holds_alternative<proto::Goodbye>(j.last().sent.back()));
+    EXPECT_TRUE(j.last().disconnected());
+    ASSERT_FALSE(j.last().messages().empty());
+    EXPECT_TRUE(std::holds_alternative<proto::Goodbye>(j.last().messages().back()));
 }
 
 TEST(ClientJoin, JoiningGivesUpAfterTheWindow) {
@@ -308,7 +300,7 @@ TEST(ClientJoin, JoiningGivesUpAfterTheWindow) {
     EXPECT_EQ(j.client->state(), ClientState::closed);
     EXPECT_EQ(j.client->close_reason().rfind("disconnected: could not join within", 0), 0u) << j.client->close_reason();
     EXPECT_EQ(j.client->close_code(), static_cast<std::uint16_t>(proto::CloseCode::local_connection_lost));
-    EXPECT_TRUE(j.last().disconnected) << "the attempt under way is called off";
+    EXPECT_TRUE(j.last().disconnected()) << "the attempt under way is called off";
     // One attempt per retry interval for the 2 s window, not one per failure.
     EXPECT_GE(j.opened.size(), 3u);
     EXPECT_LE(j.opened.size(), 6u);

@@ -6,6 +6,7 @@
 // ignores the offender and says so in its log, and the honest race finishes;
 // where the attacker had no car, with exactly the results of the same race
 // without it.
+#include "support/forwarding_transport.hpp"
 #include "support/live_race.hpp"
 #include "support/log_capture.hpp"
 #include "support/raw_client.hpp"
@@ -248,40 +249,29 @@ TEST(Hostile, JunkOutOfOrderImpostorAndTooManyPlayersChangeNothing) {
 // batch again, then its ticks with different inputs (full throttle), then
 // its inputs claimed for the tick before. A server that stepped a car once
 // per input, or took the last input for a tick, would make it faster.
-class SpeedHack final : public jetrace::net::Transport {
+class SpeedHack final : public jetrace::test::ForwardingTransport {
 public:
-    explicit SpeedHack(std::unique_ptr<jetrace::net::Transport> inner) : inner_(std::move(inner)) {}
-    void service(std::uint64_t now_ms, std::vector<jetrace::net::Event>& events) override {
-        inner_->service(now_ms, events);
-    }
+    using ForwardingTransport::ForwardingTransport;
     bool send(jetrace::net::PeerId peer, jetrace::net::Channel ch, std::span<const std::uint8_t> data) override {
-        const bool ok = inner_->send(peer, ch, data);
+        const bool ok = inner().send(peer, ch, data);
         jp::Message m;
         std::string why;
         if (!ok || !jp::decode(data, m, why) || !std::holds_alternative<jp::InputBatch>(m)) return ok;
         const jp::InputBatch b = std::get<jp::InputBatch>(m);
-        for (int i = 0; i < 3; ++i) inner_->send(peer, ch, data);
+        for (int i = 0; i < 3; ++i) inner().send(peer, ch, data);
         jp::InputBatch faster = full_throttle(b.first_tick, b.inputs.size());
         faster.ack_snapshot_tick = b.ack_snapshot_tick;
-        inner_->send(peer, ch, jp::encode(faster));
+        inner().send(peer, ch, jp::encode(faster));
         if (b.first_tick > 0) {
             jp::InputBatch earlier = b;
             earlier.first_tick -= 1;
-            inner_->send(peer, ch, jp::encode(earlier));
+            inner().send(peer, ch, jp::encode(earlier));
         }
         ++batches;
         return ok;
     }
-    void disconnect(jetrace::net::PeerId peer) override { inner_->disconnect(peer); }
-    void flush() override { inner_->flush(); }
-    jetrace::net::PeerStats peer_stats(jetrace::net::PeerId peer) const override { return inner_->peer_stats(peer); }
-    jetrace::net::Totals totals() const override { return inner_->totals(); }
-    std::uint16_t local_port() const override { return inner_->local_port(); }
 
     std::uint64_t batches = 0;
-
-private:
-    std::unique_ptr<jetrace::net::Transport> inner_;
 };
 
 TEST(Hostile, SeveralInputsPerTickMakeNoCarFaster) {

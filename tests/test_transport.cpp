@@ -1,6 +1,7 @@
 // jetrace::net: the ENet transport over 127.0.0.1 and the network conditioner.
 // Every wait is bounded in wall time, so a failure never hangs the suite.
 #include "jetrace/net/transport.hpp"
+#include "support/scripted_transport.hpp"
 
 #include <gtest/gtest.h>
 
@@ -402,7 +403,9 @@ TEST(Conditioner, ReorderChangesArrivalOrderOfUnreliable) {
     EXPECT_EQ(conditioner_stats(*link.client.t).reordered, 50u);
 }
 
-// --- conditioner over a fake transport: exact, deterministic behaviour ---
+// --- conditioner over a scripted transport: exact, deterministic behaviour ---
+
+using jetrace::test::ScriptedTransport;
 
 struct Sent {
     std::uint64_t at;
@@ -412,35 +415,22 @@ struct Sent {
     bool operator==(const Sent&) const = default;
 };
 
-class FakeTransport final : public Transport {
-public:
-    FakeTransport(std::vector<Sent>* log, const std::uint64_t* clock) : log_(log), clock_(clock) {}
-    void service(std::uint64_t /*now_ms*/, std::vector<Event>& events) override {
-        if (!announced_) {
-            announced_ = true;
-            events.push_back(Event{Event::Type::connected, 1, Channel::unreliable, {}});
-        }
+// What reached the scripted transport, each datagram by its first value.
+std::vector<Sent> sent_log(const ScriptedTransport& inner) {
+    std::vector<Sent> out;
+    for (const ScriptedTransport::Record& r : inner.log()) {
+        const bool gone = r.kind == ScriptedTransport::Record::Kind::disconnect;
+        out.push_back({r.at_ms, r.peer, r.channel, gone ? ~std::uint64_t{0} : first_u64(r.data)});
     }
-    bool send(PeerId peer, Channel channel, std::span<const std::uint8_t> data) override {
-        log_->push_back({*clock_, peer, channel, first_u64({data.begin(), data.end()})});
-        return true;
-    }
-    void disconnect(PeerId peer) override { log_->push_back({*clock_, peer, Channel::reliable, ~std::uint64_t{0}}); }
-    void flush() override {}
-    PeerStats peer_stats(PeerId) const override { return {}; }
-    Totals totals() const override { return {}; }
-    std::uint16_t local_port() const override { return 0; }
-
-private:
-    std::vector<Sent>* log_;
-    const std::uint64_t* clock_;
-    bool announced_ = false;
-};
+    return out;
+}
 
 std::vector<Sent> run_fake(const Conditions& conditions, ConditionerStats* stats = nullptr) {
-    std::vector<Sent> log;
     std::uint64_t clock = 1000;
-    auto t = condition(std::make_unique<FakeTransport>(&log, &clock), conditions);
+    auto fake = std::make_unique<ScriptedTransport>(&clock);
+    fake->connect(1);
+    const ScriptedTransport& inner = *fake;
+    auto t = condition(std::move(fake), conditions);
     std::vector<Event> events;
     t->service(clock, events);
     for (std::uint64_t i = 0; i < 300; ++i) {
@@ -453,7 +443,7 @@ std::vector<Sent> run_fake(const Conditions& conditions, ConditionerStats* stats
     EXPECT_FALSE(t->send(1, Channel::reliable, u64_bytes(0)));  // closing
     for (clock = 1300; clock < 1600; ++clock) t->service(clock, events);
     if (stats != nullptr) *stats = conditioner_stats(*t);
-    return log;
+    return sent_log(inner);
 }
 
 TEST(Conditioner, FakeInnerIsDeterministicAndKeepsReliableOrder) {
@@ -490,23 +480,26 @@ TEST(Conditioner, FakeInnerIsDeterministicAndKeepsReliableOrder) {
 }
 
 TEST(Conditioner, HeldDatagramWithoutSuccessorIsReleasedEventually) {
-    std::vector<Sent> log;
     std::uint64_t clock = 0;
     Conditions conditions;
     conditions.reorder = 1.0;
-    auto t = condition(std::make_unique<FakeTransport>(&log, &clock), conditions);
+    auto fake = std::make_unique<ScriptedTransport>(&clock);
+    fake->connect(1);
+    const ScriptedTransport& inner = *fake;
+    auto t = condition(std::move(fake), conditions);
     std::vector<Event> events;
     t->service(clock, events);
     ASSERT_TRUE(t->send(1, Channel::unreliable, u64_bytes(5)));
     clock = 50;
     t->service(clock, events);
-    EXPECT_TRUE(log.empty());
+    EXPECT_TRUE(inner.log().empty());
     clock = 100;
     t->service(clock, events);
+    const std::vector<Sent> log = sent_log(inner);
     ASSERT_EQ(log.size(), 1u);
     EXPECT_EQ(log[0].value, 5u);
     EXPECT_EQ(conditioner_stats(*t).reordered, 0u);
-    FakeTransport plain(&log, &clock);
+    const ScriptedTransport plain;
     EXPECT_EQ(conditioner_stats(plain).dropped, 0u);
 }
 

@@ -1,0 +1,206 @@
+# The tools' command-line contracts, through jetrace_cli_test (CMakeLists.txt):
+# a bad argument exits non-zero (EXPECT_FAIL) with a message (REGEX, where
+# another failure would also exit non-zero), and a tool prints what it
+# promises.
+
+# jetrace-sim and jetrace-bench.
+jetrace_cli_test(NAME cli_sim_rejects_zero_cars COMMAND jetrace-sim --cars 0 EXPECT_FAIL LABELS quick)
+jetrace_cli_test(NAME cli_sim_rejects_unknown_track COMMAND jetrace-sim --track nosuch EXPECT_FAIL LABELS quick)
+jetrace_cli_test(NAME cli_sim_rejects_missing_obj COMMAND jetrace-sim --track /nonexistent/track.obj EXPECT_FAIL LABELS quick)
+jetrace_cli_test(NAME cli_bench_rejects_no_subcommand COMMAND jetrace-bench EXPECT_FAIL LABELS quick)
+jetrace_cli_test(NAME cli_bench_rejects_zero_frames COMMAND jetrace-bench seed --frames 0 EXPECT_FAIL LABELS quick)
+jetrace_cli_test(NAME cli_sim_prints_state_hash COMMAND jetrace-sim --track ring --cars 2 --seconds 2 --seed 3 LABELS quick
+  REGEX "state_hash=[0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f]\n")
+jetrace_cli_test(NAME cli_bench_seed_prints_json COMMAND jetrace-bench seed --frames 1000 --repeats 1 LABELS quick
+  REGEX "\"grid_on_ns_per_frame\":[0-9.e+-]+.*\"grid_off_ns_per_frame\"|\"grid_off_ns_per_frame\":[0-9.e+-]+.*\"grid_on_ns_per_frame\"")
+
+# The track benchmarks on small meshes: their JSON and the same identity
+# through OBJ and .jtrack (a few seconds).
+jetrace_cli_test(NAME cli_bench_track_load_prints_json COMMAND jetrace-bench track-load --squares 32 --repeats 1
+  REGEX "\"identity_equal\":true" LABELS quick TIMEOUT 60)
+jetrace_cli_test(NAME cli_bench_density_prints_json COMMAND jetrace-bench density --squares 16 32 --seconds 1 --repeats 1
+  REGEX "\"ns_per_car_step\":[0-9.e+-]+,.*\"triangles\":512.*\"triangles\":2048" LABELS quick TIMEOUT 60)
+
+# The real levels (../shared/tracks, through docs/tracks/*.track.json): 8 AI
+# cars race a few seconds on each (laps are not asserted). Then jetrace-track.
+foreach(level truck_town zdm2)
+  jetrace_cli_test(NAME sim_real_track_${level}
+    COMMAND jetrace-sim --track ${PROJECT_SOURCE_DIR}/docs/tracks/${level}.track.json --cars 8 --seconds 5
+    REGEX "state_hash=[0-9a-f]+" LABELS quick TIMEOUT 120)
+endforeach()
+jetrace_cli_test(NAME cli_track_inspect_json COMMAND jetrace-track inspect ${PROJECT_SOURCE_DIR}/docs/tracks/zdm2.track.json --json
+  REGEX "\"degenerate_dropped\":1134.*\"gates\":10.*\"raceable\":true.*\"triangles\":57638" LABELS quick TIMEOUT 60)
+jetrace_cli_test(NAME cli_track_render_svg COMMAND sh -c "out=\$(mktemp -d) && \"$0\" render ring --svg \$out/r.svg && grep -q '<svg' \$out/r.svg && grep -q '>11</text>' \$out/r.svg; s=\$?; rm -rf \$out; exit \$s" $<TARGET_FILE:jetrace-track>
+  LABELS quick TIMEOUT 60)
+jetrace_cli_test(NAME cli_track_requires_subcommand COMMAND jetrace-track EXPECT_FAIL LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_track_render_requires_svg COMMAND jetrace-track render ring EXPECT_FAIL LABELS quick TIMEOUT 20)
+# Matched on the message and a non-zero exit: name|arguments|message.
+foreach(spec
+    "cli_track_rejects_missing_file|inspect /nonexistent/t.track.json|cannot open '/nonexistent/t.track.json'"
+    "cli_track_rejects_unknown_track|inspect nosuch|unknown track 'nosuch'"
+    "cli_track_rejects_bad_width|render ring --svg /tmp/x.svg --width 5|--width: Value 5 not in range"
+    "cli_track_reports_failed_write|render ring --svg /proc/jetrace-no-such/x.svg|cannot write '/proc/jetrace-no-such/x.svg'")
+  string(REPLACE "|" ";" parts "${spec}")
+  list(GET parts 0 name)
+  list(GET parts 1 args)
+  list(GET parts 2 message)
+  separate_arguments(args)
+  jetrace_cli_test(NAME ${name} COMMAND sh -c "\"$0\" \"$@\" 2>&1; echo exit=$?" $<TARGET_FILE:jetrace-track> ${args}
+    REGEX "${message}.*exit=[1-9]" LABELS quick TIMEOUT 20)
+endforeach()
+
+# jetrace-server's options. Matched on the message: an older server without
+# the option also exits non-zero. name|arguments...|message.
+foreach(spec
+    "nan_drain_timeout|--drain-timeout;nan|--drain-timeout: Value nan is not a finite number"
+    "infinite_lobby_timeout|--lobby-timeout;inf|--lobby-timeout: Value inf is not a finite number"
+    "negative_lobby_timeout|--lobby-timeout;-1|--lobby-timeout: Value -1 not in range"
+    "nan_countdown|--countdown;nan|--countdown: Value nan is not a finite number"
+    "nan_health_period|--agones-health-period;nan|--agones-health-period: Value nan is not a finite number"
+    "zero_finish_window|--finish-window;0|--finish-window: Value 0 not in range \\(0, 3600\\]"
+    "long_hello_timeout|--hello-timeout;1e6|--hello-timeout: Value 1e6 not in range \\[0.001, 86400\\]"
+    "scaled_hello_timeout|--hello-timeout;1000;--time-scale;100|--hello-timeout 1000 times --time-scale 100 is 100000 s"
+    "huge_finish_window|--finish-window;1e400|--finish-window: Value 1e400 is out of the range of a double"
+    "unknown_lobby_action|--lobby-timeout;5;--lobby-timeout-action;wait|--lobby-timeout-action: wait not in"
+    "cancel_without_lobby_timeout|--lobby-timeout-action;cancel|--lobby-timeout-action cancel needs --lobby-timeout"
+    "nonce_file_without_key|--nonce-file;/tmp/jetrace-nonces|--nonce-file needs --key-file"
+    "bad_pre_hello_limit|--pre-hello-limit;5000|--pre-hello-limit: Value 5000 not in range")
+  string(REPLACE "|" ";" parts "${spec}")
+  list(GET parts 0 name)
+  list(GET parts -1 message)
+  list(REMOVE_AT parts 0 -1)
+  jetrace_cli_test(NAME cli_server_rejects_${name} COMMAND jetrace-server ${parts} --port 0
+    REGEX "${message}" LABELS quick TIMEOUT 20)
+endforeach()
+jetrace_cli_test(NAME cli_server_names_default_snapshot_rate COMMAND jetrace-server --tick-rate 100 --snapshot-rate 7 --port 0
+  REGEX "the default snapshot rate is 50 Hz" LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_server_rejects_sign_key_without_record
+  COMMAND jetrace-server --port 0 --sign-key ${CMAKE_CURRENT_SOURCE_DIR}/CMakeLists.txt
+  REGEX "--sign-key needs --record" LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_server_rejects_bad_snapshot_rate COMMAND jetrace-server --snapshot-rate 7 --port 0
+  EXPECT_FAIL LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_server_rejects_unknown_track COMMAND jetrace-server --track nosuch --port 0
+  EXPECT_FAIL LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_server_rejects_negative_reconnect_grace COMMAND jetrace-server --reconnect-grace -1 --port 0
+  EXPECT_FAIL LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_server_rejects_race_id_without_key COMMAND jetrace-server --race-id cup --port 0
+  EXPECT_FAIL LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_server_rejects_zero_hello_timeout COMMAND jetrace-server --hello-timeout 0 --port 0
+  EXPECT_FAIL LABELS quick TIMEOUT 20)
+# Matched on the message and the exit code (2, before listening).
+jetrace_cli_test(NAME cli_server_rejects_results_in_missing_dir
+  COMMAND sh -c "\"$0\" --results /nonexistent/r-%n.json --port 0 2>&1; echo exit=$?" $<TARGET_FILE:jetrace-server>
+  REGEX "cannot create files in the directory '/nonexistent' of '/nonexistent/r-1.json': No such file or directory\nexit=2"
+  LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_server_rejects_record_in_missing_dir
+  COMMAND sh -c "\"$0\" --record /nonexistent/race.replay --port 0 2>&1; echo exit=$?" $<TARGET_FILE:jetrace-server>
+  REGEX "'/nonexistent/race.replay': No such file or directory\nexit=2" LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_server_rejects_missing_key_file
+  COMMAND sh -c "\"$0\" --key-file /nonexistent --port 0 2>&1; echo exit=$?" $<TARGET_FILE:jetrace-server>
+  REGEX "key file '/nonexistent': No such file or directory.*exit=2" LABELS quick TIMEOUT 20)
+
+# jetrace-bot's options.
+jetrace_cli_test(NAME cli_bot_rejects_nan_max_seconds COMMAND jetrace-bot --connect 127.0.0.1:9 --max-seconds nan
+  REGEX "--max-seconds: Value nan is not a finite number" LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_bot_rejects_infinite_time_scale COMMAND jetrace-bot --connect 127.0.0.1:9 --time-scale inf
+  REGEX "--time-scale: Value inf is not a finite number" LABELS quick TIMEOUT 20)
+# Matched on CLI11's message: a bot that ran instead would also exit non-zero.
+jetrace_cli_test(NAME cli_bot_rejects_negative_join_window COMMAND jetrace-bot --connect 127.0.0.1:9 --join-window -1
+  REGEX "--join-window: Value -1 not in range" LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_bot_rejects_invalid_utf8_name
+  COMMAND sh -c "\"$0\" --connect 127.0.0.1:9 --name \"$(printf 'a\\377')\" 2>&1; echo exit=$?" $<TARGET_FILE:jetrace-bot>
+  REGEX "--name must be valid UTF-8 text of at most 30 bytes\nexit=2" LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_bot_rejects_bad_address COMMAND jetrace-bot --connect nohostport EXPECT_FAIL LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_bot_requires_connect COMMAND jetrace-bot --count 2 EXPECT_FAIL LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_bot_rejects_malformed_token COMMAND jetrace-bot --connect 127.0.0.1:9 --track ring --token AAAA
+  EXPECT_FAIL LABELS quick TIMEOUT 20)
+
+# jetrace-sim's and jetrace-verify's replay options. Matched on the message
+# where the wrong refusal would also exit non-zero.
+jetrace_cli_test(NAME cli_sim_rejects_garbage_replay COMMAND jetrace-sim --replay ${CMAKE_CURRENT_SOURCE_DIR}/CMakeLists.txt
+  EXPECT_FAIL LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_sim_rejects_directory_replay COMMAND jetrace-sim --verify ${CMAKE_CURRENT_SOURCE_DIR}
+  REGEX "is a directory" LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_sim_rejects_device_replay COMMAND jetrace-sim --verify /dev/zero
+  REGEX "is not a regular file" LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_sim_rejects_nan_seconds COMMAND jetrace-sim --seconds nan
+  REGEX "not a finite number" LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_sim_rejects_bad_expect COMMAND jetrace-sim --verify ${CMAKE_CURRENT_SOURCE_DIR}/CMakeLists.txt
+  --expect 12345 REGEX "is not 16 hex digits" LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_sim_rejects_one_diff_without_rebuild COMMAND jetrace-sim --diff ${CMAKE_CURRENT_SOURCE_DIR}/CMakeLists.txt
+  REGEX "--diff takes two replays" LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_sim_rejects_two_modes COMMAND jetrace-sim --verify a --synctest b
+  REGEX "at most 1 options" LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_sim_rejects_zero_rollback COMMAND jetrace-sim --synctest a --rollback 0
+  REGEX "--rollback: Value 0 not in range" LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_verify_rejects_bad_expect COMMAND jetrace-verify ${CMAKE_CURRENT_SOURCE_DIR}/CMakeLists.txt --expect zz
+  REGEX "is not 16 hex digits" LABELS quick TIMEOUT 20)
+
+# jetrace-token.
+jetrace_cli_test(NAME cli_token_requires_subcommand COMMAND jetrace-token EXPECT_FAIL LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_token_issue_rejects_missing_key
+  COMMAND jetrace-token issue --key-file /nonexistent --name a --valid-for 5 EXPECT_FAIL LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_token_issue_rejects_zero_validity
+  COMMAND jetrace-token issue --key-file /nonexistent --name a --valid-for 0 EXPECT_FAIL LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_token_inspect_rejects_garbage COMMAND jetrace-token inspect "not a token!"
+  EXPECT_FAIL LABELS quick TIMEOUT 20)
+
+# jetrace-netsim.
+jetrace_cli_test(NAME cli_netsim_requires_forward COMMAND jetrace-netsim --listen 0 EXPECT_FAIL LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_netsim_requires_listen COMMAND jetrace-netsim --forward 127.0.0.1:27910
+  EXPECT_FAIL LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_netsim_rejects_bad_forward COMMAND jetrace-netsim --listen 0 --forward nohostport --duration 1
+  EXPECT_FAIL LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_netsim_rejects_loss_above_one COMMAND jetrace-netsim --listen 0 --forward 127.0.0.1:9 --loss 1.5
+  EXPECT_FAIL LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_netsim_rejects_negative_latency
+  COMMAND jetrace-netsim --listen 0 --forward 127.0.0.1:9 --up-latency -5 EXPECT_FAIL LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_netsim_rejects_bad_port COMMAND jetrace-netsim --listen 70000 --forward 127.0.0.1:9
+  EXPECT_FAIL LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_netsim_rejects_unbindable_address
+  COMMAND jetrace-netsim --listen 0 --bind 192.0.2.1 --forward 127.0.0.1:9 --duration 1 EXPECT_FAIL LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_netsim_rejects_nan_loss COMMAND jetrace-netsim --listen 0 --forward 127.0.0.1:9 --loss nan
+  REGEX "--loss: Value nan is not a finite number" LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_netsim_prints_counters COMMAND jetrace-netsim --listen 0 --forward 127.0.0.1:9 --duration 0.2
+  REGEX "listening on 127.0.0.1:[0-9]+\n.*\"up\":{.*\"rate_limited\":0" LABELS quick TIMEOUT 20)
+
+# jetrace-bench study: its quick mode writes every CSV file.
+jetrace_cli_test(NAME bench_study_quick COMMAND ${CMAKE_COMMAND} -E env
+  sh -c "out=\$(mktemp -d) && $<TARGET_FILE:jetrace-bench> study --quick --repeats 1 --out \$out && for f in integrators spring resolver tunnelling grid_cell track_size cars pareto; do test -s \$out/\$f.csv || { echo missing \$f.csv; exit 1; }; done; rm -rf \$out"
+  LABELS quick TIMEOUT 120)
+jetrace_cli_test(NAME cli_bench_study_rejects_zero_repeats COMMAND jetrace-bench study --repeats 0 EXPECT_FAIL LABELS quick)
+jetrace_cli_test(NAME cli_bench_study_rejects_unwritable_out COMMAND jetrace-bench study --quick --out /proc/jetrace-no-such-dir
+  EXPECT_FAIL LABELS quick)
+
+# jetrace-bench bullet, side by side with Bullet: one JSON line per scenario with its keys.
+if(JETRACE_HAVE_BULLET)
+  set(_num "[0-9.e+-]+")
+  jetrace_cli_test(NAME bench_bullet_prints_json COMMAND jetrace-bench bullet --quick --frames 50 --repeats 1
+    LABELS quick TIMEOUT 120 REGEX
+    "\"bullet_ns_per_step\":${_num}.*\"jetrace_ns_per_step\":${_num}.*\"scenario\":\"idle\".*\"bullet_ns_per_step\":${_num}.*\"jetrace_ns_per_step\":${_num}.*\"scenario\":\"driving\".*\"bullet_ccd_limit_mps\":${_num}.*\"bullet_limit_mps\":${_num}.*\"bullet_ns_per_step\":${_num}.*\"jetrace_limit_mps\":${_num}.*\"jetrace_ns_per_step\":${_num}.*\"scenario\":\"thin_wall\"")
+  jetrace_cli_test(NAME cli_bench_bullet_rejects_zero_frames COMMAND jetrace-bench bullet --frames 0 EXPECT_FAIL LABELS quick)
+  jetrace_cli_test(NAME cli_bench_bullet_rejects_jetrace_only_thin_wall
+    COMMAND jetrace-bench bullet --scenario thin_wall --jetrace-only EXPECT_FAIL LABELS quick)
+  jetrace_cli_test(NAME cli_bench_bullet_rejects_unknown_scenario COMMAND jetrace-bench bullet --scenario nosuch
+    EXPECT_FAIL LABELS quick)
+  # One scenario, jetrace only: what the callgrind figure of docs/ACCURACY.md runs.
+  jetrace_cli_test(NAME bench_bullet_jetrace_only_driving
+    COMMAND jetrace-bench bullet --scenario driving --jetrace-only --frames 50 --repeats 1
+    REGEX "\"jetrace_ns_per_step\":${_num}.*\"scenario\":\"driving\"" FAIL_REGEX "bullet_" LABELS quick TIMEOUT 60)
+endif()
+
+# jetrace-server's hosting options (label ops too).
+jetrace_cli_test(NAME cli_server_rejects_bad_metrics_port COMMAND jetrace-server --metrics 127.0.0.1:70000 --port 0
+  EXPECT_FAIL LABELS quick ops TIMEOUT 20)
+jetrace_cli_test(NAME cli_server_rejects_metrics_without_port COMMAND jetrace-server --metrics 127.0.0.1: --port 0
+  EXPECT_FAIL LABELS quick ops TIMEOUT 20)
+jetrace_cli_test(NAME cli_server_rejects_zero_health_period
+  COMMAND jetrace-server --agones --agones-health-period 0 --port 0 EXPECT_FAIL LABELS quick ops TIMEOUT 20)
+jetrace_cli_test(NAME cli_server_rejects_zero_connect_timeout
+  COMMAND jetrace-server --agones --agones-connect-timeout 0 --port 0 EXPECT_FAIL LABELS quick ops TIMEOUT 20)
+jetrace_cli_test(NAME cli_server_rejects_bad_agones_port
+  COMMAND sh -c "AGONES_SDK_HTTP_PORT=9x \"$0\" --port 0 2>&1; echo exit=$?" $<TARGET_FILE:jetrace-server>
+  REGEX "AGONES_SDK_HTTP_PORT='9x' is not a port.*exit=2" LABELS quick ops TIMEOUT 20)
+jetrace_cli_test(NAME cli_server_rejects_unbindable_metrics
+  COMMAND sh -c "\"$0\" --port 0 --metrics 192.0.2.1:9100 2>&1; echo exit=$?" $<TARGET_FILE:jetrace-server>
+  REGEX "--metrics: cannot listen on 192.0.2.1:9100.*exit=1" LABELS quick ops TIMEOUT 20)
