@@ -27,8 +27,7 @@ struct Input {
 
     /// Clamps every field into range (inputs read from outside go through this).
     static Input clamped(int throttle, int steer, int brake);
-    /// 10 bits: throttle (4) | steer + 15 (5) << 4 | brake (1) << 9, so the
-    /// neutral Input{} packs to 240 (0 is full left).
+    /// 10 bits: throttle (4) | steer + 15 (5) << 4 | brake (1) << 9; Input{} packs to 240.
     std::uint16_t pack() const;
     /// Inverse of pack(); out-of-range fields are clamped.
     static Input unpack(std::uint16_t bits);
