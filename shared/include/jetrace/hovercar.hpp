@@ -27,7 +27,7 @@ struct Input {
 
     /// Clamps every field into range (inputs read from outside go through this).
     static Input clamped(int throttle, int steer, int brake);
-    /// 10 bits: throttle (4) | steer + 15 (5) << 4 | brake (1) << 9.
+    /// 10 bits: throttle (4) | steer + 15 (5) << 4 | brake (1) << 9; Input{} packs to 240.
     std::uint16_t pack() const;
     /// Inverse of pack(); out-of-range fields are clamped.
     static Input unpack(std::uint16_t bits);
@@ -79,14 +79,14 @@ void place_car(CarState& car, const Pose& pose);
 /// The orientation whose forward and up are the given (orthonormal) vectors.
 Quat orientation_from(const Vec3& forward, const Vec3& up);
 
-/// Phase 1 (per car, before integration): steering, thrust, brake, gravity
-/// with the normal force of the supporting surface, drag and sideways
-/// friction. Changes velocity and orientation, not position.
+/// Phase 1, drive (per car, before integrate()): steering, thrust, brake,
+/// gravity with the normal force of the supporting surface, drag and
+/// sideways friction. Changes velocity and orientation, not position.
 void apply_controls_and_forces(const PhysicsSettings& s, const Contacts& contacts, const Input& input, CarState& car);
 
-/// Phase 2: moves the car by its velocity with the configured integrator;
-/// `velocity_before` is its velocity before phase 1 (Verlet and explicit
-/// Euler use it).
+/// The end of phase 1: moves the car by its velocity with the configured
+/// integrator; `velocity_before` is its velocity before
+/// apply_controls_and_forces() (Verlet and explicit Euler use it).
 void integrate(const PhysicsSettings& s, const Vec3& velocity_before, CarState& car);
 
 /// Phase 4 (after the push-out): turns the car's up towards the contact

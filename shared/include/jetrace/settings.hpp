@@ -111,14 +111,14 @@ struct PhysicsSettings {
 /// Returns an empty string if the settings are usable, else what is wrong.
 std::string validate(const PhysicsSettings& s);
 
-/// Revision of what step() computes from the same settings and state. Bumped
-/// whenever a change alters any result (the golden hash in
-/// tests/test_determinism.cpp moves with it); part of the fingerprint, so
-/// peers running different cores refuse each other instead of diverging.
-///   1: the first networked core; 2: each-contact push-out passes;
-///   3: face-region closest points by projection; the car is quantised
-///      before the push-out, whose clean pass also finds the contacts; a
-///      sweep that meets nothing leaves the position's bits alone.
+/// Revision of what step() computes from the same settings and state: it
+/// changes with any change that alters a result (the golden hash in
+/// tests/test_determinism.cpp moves with it), and only then. It is the
+/// first value physics_fingerprint() hashes, so peers running different
+/// cores refuse each other instead of diverging: the Welcome carries the
+/// fingerprint as physics_hash (docs/PROTOCOL.md, "Hashes"), and a replay's
+/// header carries it too, so that a replay recorded by another core fails
+/// verification as "physics", not as a desync at some tick.
 inline constexpr std::uint32_t kPhysicsRevision = 3;
 
 /// Hash of kPhysicsRevision and every field (raw bits): peers and replays
