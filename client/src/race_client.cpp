@@ -6,13 +6,6 @@
 
 namespace jetrace::client {
 
-namespace {
-
-/// Snapshot rate assumed before a Welcome names the server's (unit: Hz).
-constexpr int kDefaultSnapshotRateHz = 60;
-
-}  // namespace
-
 RaceClient::RaceClient(const ClientConfig& config, KnownScenes scenes, net::Transport& transport)
     : config_(config), scenes_(config.name, std::move(scenes)), link_(config, transport), clock_(config),
       predictor_(!config.predict), interpolator_(config.interpolation_snapshots, config.smoothing_per_tick) {
@@ -27,11 +20,9 @@ RaceClient::RaceClient(const ClientConfig& config, KnownScenes scenes, Connector
 
 void RaceClient::init() {
     clock_.set_tick_rate(scene().physics.tick_rate_hz);
-    interpolator_.set_rates(scene().physics.tick_rate_hz, kDefaultSnapshotRateHz);
+    interpolator_.set_rates(scene().physics.tick_rate_hz);
     predictor_.reset();
 }
-
-void RaceClient::leave(const std::string& reason, proto::CloseCode why) { link_.leave(reason, why); }
 
 void RaceClient::on_event(const net::Event& e) {
     if (e.type != net::Event::Type::received) return link_.on_connection_event(e);
@@ -202,10 +193,6 @@ void RaceClient::update(std::uint64_t now_us, const InputSource& input) {
 Vec3 RaceClient::visual_own_position() const {
     if (slot_ < 0 || !have_world_) return Vec3::Zero();
     return interpolator_.own(predicted().cars[static_cast<std::size_t>(slot_)].position);
-}
-
-Vec3 RaceClient::visual_position(int slot) const {
-    return interpolator_.other(snapshots_, slot, now_us_, clock_.period_us());
 }
 
 }  // namespace jetrace::client

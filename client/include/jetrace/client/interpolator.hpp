@@ -19,8 +19,11 @@ public:
     Interpolator(double interpolation_snapshots, double smoothing_per_tick)
         : delay_snapshots_(interpolation_snapshots), smoothing_per_tick_(smoothing_per_tick) {}
 
+    /// Snapshot rate assumed before a Welcome names the server's (unit: Hz).
+    static constexpr int kDefaultSnapshotRateHz = 60;
+
     /// The server's tick and snapshot rates (unit: Hz).
-    void set_rates(int tick_rate_hz, int snapshot_rate_hz);
+    void set_rates(int tick_rate_hz, int snapshot_rate_hz = kDefaultSnapshotRateHz);
     void reset() { offset_ = Vec3::Zero(); }
     /// A reconciliation moved the predicted own car from `before` to `after`:
     /// it is still drawn at `before`, the offset fading from there.

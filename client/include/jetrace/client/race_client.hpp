@@ -71,7 +71,9 @@ public:
     /// Handles the network and runs the prediction ticks due by `now_us`.
     void update(std::uint64_t now_us, const InputSource& input);
     /// Says goodbye and closes.
-    void leave(const std::string& reason, proto::CloseCode why = proto::CloseCode::local_left);
+    void leave(const std::string& reason, proto::CloseCode why = proto::CloseCode::local_left) {
+        link_.leave(reason, why);
+    }
 
     ClientState state() const { return link_.client_state(); }
     /// The track being raced: the one the Welcome named (before it, the
@@ -109,7 +111,7 @@ public:
     /// Where to draw another car: interpolated between the two stored
     /// snapshots around the render tick, which trails the newest snapshot by
     /// interpolation_snapshots snapshot intervals (never extrapolated).
-    Vec3 visual_position(int slot) const;
+    Vec3 visual_position(int slot) const { return interpolator_.other(snapshots_, slot, now_us_, clock_.period_us()); }
 
 private:
     void init();
