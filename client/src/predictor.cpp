@@ -100,6 +100,25 @@ void Predictor::reset() {
 
 void Predictor::start(const WorldState& w) { world_ = w; }
 
+bool Predictor::unapplied_inputs(std::uint32_t last_applied, proto::InputBatch& b) const {
+    const std::uint32_t end = world_.tick;  // inputs for ticks < end exist
+    std::uint32_t first = last_applied == proto::kNoTick ? 0 : last_applied + 1;
+    const auto most = static_cast<std::uint32_t>(proto::kMaxInputsPerBatch);
+    if (end > most && first < end - most) first = end - most;
+    b.inputs.clear();
+    for (std::uint32_t t = first; t < end; ++t) {
+        const Input* in = my_input(t);
+        if (in == nullptr) {
+            b.inputs.clear();
+            first = t + 1;
+            continue;
+        }
+        b.inputs.push_back(*in);
+    }
+    b.first_tick = first;
+    return !b.inputs.empty();
+}
+
 void Predictor::fill_inputs(const proto::WorldSnapshot& snap, std::size_t own, std::uint32_t t,
                             std::vector<Input>& out) const {
     out.resize(snap.state.cars.size());

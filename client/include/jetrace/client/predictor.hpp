@@ -77,6 +77,10 @@ public:
     const Input* my_input(std::uint32_t t) const {
         return my_input_ticks_[t % kRing] == t ? &my_inputs_[t % kRing] : nullptr;
     }
+    /// Fills `b` (first_tick, inputs) with the own inputs the server has not
+    /// applied yet: after `last_applied` (kNoTick: none), up to the predicted
+    /// tick, at most kMaxInputsPerBatch, none older than a gap. False: none.
+    bool unapplied_inputs(std::uint32_t last_applied, proto::InputBatch& b) const;
     const Work& work() const { return work_; }
 
 private:

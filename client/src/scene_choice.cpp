@@ -1,14 +1,27 @@
-// RaceClient: the scene to race a server's Welcome on (its track, and its
-// physics settings, adopted when the core is the same).
-#include "jetrace/client/race_client.hpp"
+#include "jetrace/client/scene_choice.hpp"
 
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cassert>
 
 namespace jetrace::client {
 
-const Scene* RaceClient::scene_for(const proto::Welcome& w, std::string& why) {
+SceneChoice::SceneChoice(std::string name, KnownScenes scenes) : name_(std::move(name)), scenes_(std::move(scenes)) {
+    assert(!scenes_.empty());
+    for (const Scene* s : scenes_) identities_.push_back(s->track.identity());
+    current_ = scenes_.front();
+}
+
+bool SceneChoice::choose(const proto::Welcome& w, bool& changed, std::string& why) {
+    const Scene* chosen = scene_for(w, why);  // current_ is null if it replaced it
+    if (chosen == nullptr) return false;
+    changed = chosen != current_;
+    current_ = chosen;
+    return true;
+}
+
+const Scene* SceneChoice::scene_for(const proto::Welcome& w, std::string& why) {
     const auto known = std::find(identities_.begin(), identities_.end(), w.track_identity);
     if (known == identities_.end()) {
         why = "track mismatch: the server races on '" + w.track_name + "', which differs from ours";
@@ -28,15 +41,15 @@ const Scene* RaceClient::scene_for(const proto::Welcome& w, std::string& why) {
         why = "the server's physics settings are not usable here: " + invalid;
         return nullptr;
     }
-    if (!adopted_scene_ || adopted_scene_->track.identity() != w.track_identity ||
-        proto::physics_hash(adopted_scene_->physics) != w.physics_hash) {
+    if (!adopted_ || adopted_->track.identity() != w.track_identity ||
+        proto::physics_hash(adopted_->physics) != w.physics_hash) {
         auto scene = std::make_unique<Scene>(Scene::make(base->track, p));
         scene->broadphase = base->broadphase;
-        if (scene_ == adopted_scene_.get()) scene_ = nullptr;  // replaced below
-        adopted_scene_ = std::move(scene);
-        spdlog::info("{}: adopting the server's physics settings (tick rate {} Hz)", config_.name, p.tick_rate_hz);
+        if (current_ == adopted_.get()) current_ = nullptr;  // replaced below
+        adopted_ = std::move(scene);
+        spdlog::info("{}: adopting the server's physics settings (tick rate {} Hz)", name_, p.tick_rate_hz);
     }
-    return adopted_scene_.get();
+    return adopted_.get();
 }
 
 }  // namespace jetrace::client

@@ -1,0 +1,52 @@
+// The settings of a RaceClient (and of its link, clock and interpolation).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace jetrace::client {
+
+struct ClientConfig {
+    std::string name = "player";
+    /// How many ticks early the client aims for its inputs to reach the
+    /// server, on top of the jitter allowance (unit: ticks).
+    double target_margin_ticks = 2.0;
+    /// Jitter allowance: this many RTT standard deviations (unit: 1).
+    double jitter_margin_sigmas = 2.0;
+    /// Largest speed-up or slow-down of the client's tick clock (unit: fraction).
+    double max_clock_adjust = 0.05;
+    /// Delay at which other cars are shown, behind the newest snapshot
+    /// (unit: snapshot intervals).
+    double interpolation_snapshots = 2.0;
+    /// Inputs are sent every this many ticks, each packet carrying every
+    /// input the server has not applied yet (unit: ticks).
+    std::uint32_t input_interval_ticks = 3;
+    /// Fraction of a visible correction removed per tick (unit: 1/tick).
+    double smoothing_per_tick = 0.1;
+    /// After the connection drops (no Goodbye from the server), keep trying
+    /// to reconnect with the Welcome's reconnect token this long; match the
+    /// server's reconnect grace. Needs the Connector constructor; 0: never
+    /// (unit: s).
+    double reconnect_window_s = 10.0;
+    /// Pause between two reconnect or join attempts (unit: s).
+    double reconnect_retry_s = 0.5;
+    /// If a connection attempt fails before it comes up (the server not up
+    /// yet, or unreachable for a while), keep trying to join this long after
+    /// the first failure. A connection that drops after the Hello went out
+    /// is not retried: the server may have admitted it. Needs the Connector
+    /// constructor; 0: never (unit: s).
+    double join_window_s = 10.0;
+    /// Leave if no Welcome (or Refuse) comes this long after the Hello (a
+    /// port that answers but is no jetrace server); 0: wait (unit: s).
+    double welcome_timeout_s = 10.0;
+    /// Hello.connect_token: a signed connect token for a private race
+    /// (jetrace-token issue), or empty (unit: bytes).
+    std::vector<std::uint8_t> connect_token;
+    /// Predict (and reconcile) the world; false: a thin client, which steps
+    /// nothing and drives on the newest snapshot, its input computed once a
+    /// snapshot (load tests: far cheaper per client, the same protocol).
+    bool predict = true;
+};
+
+}  // namespace jetrace::client

@@ -1,0 +1,45 @@
+// Where the client draws cars: its own one at the prediction plus a
+// correction offset that fades out (kept apart from the simulated state),
+// the others interpolated between two stored snapshots around a render
+// tick that trails the newest snapshot (never extrapolated).
+#pragma once
+
+#include "jetrace/client/snapshot_store.hpp"
+#include "jetrace/world.hpp"
+
+#include <cstdint>
+
+namespace jetrace::client {
+
+class Interpolator {
+public:
+    /// interpolation_snapshots: delay behind the newest snapshot (unit:
+    /// snapshot intervals); smoothing_per_tick: fraction of the offset
+    /// removed per tick (unit: 1/tick).
+    Interpolator(double interpolation_snapshots, double smoothing_per_tick)
+        : delay_snapshots_(interpolation_snapshots), smoothing_per_tick_(smoothing_per_tick) {}
+
+    /// Snapshot rate assumed before a Welcome names the server's (unit: Hz).
+    static constexpr int kDefaultSnapshotRateHz = 60;
+
+    /// The server's tick and snapshot rates (unit: Hz).
+    void set_rates(int tick_rate_hz, int snapshot_rate_hz = kDefaultSnapshotRateHz);
+    void reset() { offset_ = Vec3::Zero(); }
+    /// A reconciliation moved the predicted own car from `before` to `after`:
+    /// it is still drawn at `before`, the offset fading from there.
+    void correct(const Vec3& before, const Vec3& after) { offset_ += before - after; }
+    /// One predicted tick: the offset fades.
+    void tick() { offset_ *= 1.0 - smoothing_per_tick_; }
+
+    Vec3 own(const Vec3& predicted) const { return predicted + offset_; }
+    /// Another car, at `now_us` on a clock of period `period_us` (unit: µs).
+    Vec3 other(const SnapshotStore& store, int slot, std::uint64_t now_us, double period_us) const;
+
+private:
+    double delay_snapshots_;
+    double smoothing_per_tick_;
+    double ticks_per_snapshot_ = 1.0;
+    Vec3 offset_{0, 0, 0};
+};
+
+}  // namespace jetrace::client
