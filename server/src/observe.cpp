@@ -22,10 +22,10 @@ std::vector<PlayerStatus> RaceServer::player_status() const {
         }
         out.push_back(std::move(p));
     };
-    for (const auto& [peer, c] : clients_) {
+    for (const auto& [peer, c] : sessions_.clients()) {
         if (c.greeted && c.slot >= 0) with_car(c, true);
     }
-    for (const auto& [slot, h] : held_) with_car(h.client, false);
+    for (const auto& [slot, h] : sessions_.held()) with_car(h.client, false);
     std::sort(out.begin(), out.end(), [](const PlayerStatus& a, const PlayerStatus& b) { return a.slot < b.slot; });
     return out;
 }

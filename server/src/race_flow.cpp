@@ -19,7 +19,7 @@ void RaceServer::tick() {
         case proto::RacePhase::finished:
             if (now_us_ >= results_until_us_) {
                 phase_ = proto::RacePhase::lobby;
-                for (auto& [peer, c] : clients_) c.spectating = false;
+                for (auto& [peer, c] : sessions_.clients()) c.spectating = false;
                 broadcast_status();
             }
             break;
@@ -38,7 +38,7 @@ void RaceServer::start_race() {
     snapshots_.clear();
     race_start_unix_s_ = unix_time_s_ > 0 ? unix_time_s_ : 0;
     racers_at_start_.clear();
-    for (auto& [peer, c] : clients_) {
+    for (auto& [peer, c] : sessions_.clients()) {
         c.reset_link_state();
         if (!c.greeted || c.slot < 0) continue;
         c.spectating = false;
@@ -58,11 +58,11 @@ void RaceServer::step_race() {
     // Exactly one input per car per tick; a missing one repeats the last.
     for (std::size_t s = 0; s < world_.cars.size(); ++s) {
         applied_[s] = Input{};
-        const net::PeerId peer = slot_peer_[s];
         // A held car (its player dropped) drives on with neutral inputs.
-        if (peer == kNoPeer || peer == kHeldPeer || !world_.cars[s].active) continue;
+        Client* driver = sessions_.driver_of(s);
+        if (!driver || !world_.cars[s].active) continue;
         bool missing = false;
-        applied_[s] = clients_.at(peer).inputs.pick(world_.tick, missing);
+        applied_[s] = driver->inputs.pick(world_.tick, missing);
         if (missing) ++counters_.inputs_missing;
     }
     if (observer) observer->before_step(world_.tick, pending_removals_, applied_);
@@ -109,12 +109,12 @@ void RaceServer::send_snapshots() {
     // replay the other cars exactly instead of guessing.
     now.upcoming.assign(world_.cars.size(), {});
     for (std::size_t s = 0; s < world_.cars.size(); ++s) {
-        const net::PeerId peer = slot_peer_[s];
-        if (peer == kNoPeer || peer == kHeldPeer || !world_.cars[s].active) continue;
-        clients_.at(peer).inputs.upcoming(world_.tick, proto::kMaxUpcomingInputs, now.upcoming[s]);
+        Client* driver = sessions_.driver_of(s);
+        if (!driver || !world_.cars[s].active) continue;
+        driver->inputs.upcoming(world_.tick, proto::kMaxUpcomingInputs, now.upcoming[s]);
     }
     snapshots_.begin(std::move(now));
-    for (auto& [peer, c] : clients_) {
+    for (auto& [peer, c] : sessions_.clients()) {
         if (!c.greeted) continue;
         proto::Snapshot snap;
         snap.server_tick = world_.tick;
@@ -136,7 +136,7 @@ std::vector<proto::StandingEntry> RaceServer::current_standings() const {
     for (const Standing& s : standings(scene_.track, world_.cars, world_.start_tick, scene_.physics.tick_rate_hz)) {
         proto::StandingEntry e;
         e.slot = static_cast<std::uint8_t>(s.slot);
-        const Client* owner = owner_of(s.slot);
+        const Client* owner = sessions_.owner_of(s.slot);
         e.name = owner ? owner->name : "player" + std::to_string(s.slot);
         e.finished = s.finished;
         e.lap = static_cast<std::uint16_t>(s.lap);
@@ -152,7 +152,7 @@ void RaceServer::observe_start() {
     h.race_number = race_number_;
     h.start_unix_s = race_start_unix_s_;
     h.names.assign(world_.cars.size(), std::string());
-    for (const auto& [peer, c] : clients_) {
+    for (const auto& [peer, c] : sessions_.clients()) {
         if (c.greeted && c.slot >= 0) h.names[static_cast<std::size_t>(c.slot)] = c.name;
     }
     observer->race_started(h);
@@ -191,7 +191,7 @@ void RaceServer::end_race(replay::EndReason reason) {
     r.standings = end.standings;
     r.state_hash = end.state_hash;
     send_snapshots();  // the final state, so clients can check the hash
-    for (const auto& [peer, c] : clients_) {
+    for (const auto& [peer, c] : sessions_.clients()) {
         if (c.greeted) send(peer, net::Channel::reliable, r);
     }
     phase_ = proto::RacePhase::finished;

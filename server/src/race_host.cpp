@@ -42,18 +42,11 @@ void RaceServer::lobby_tick() {
 
 void RaceServer::cancel_lobby(const std::string& reason) {
     spdlog::info("{}", reason);
-    std::vector<net::PeerId> greeted;
-    for (const auto& [peer, c] : clients_) {
-        if (c.greeted) greeted.push_back(peer);
-    }
-    for (net::PeerId peer : greeted) {
+    for (net::PeerId peer : sessions_.greeted_peers()) {
         send(peer, net::Channel::reliable,
              proto::Goodbye{reason, static_cast<std::uint16_t>(proto::CloseCode::lobby_cancelled)});
         transport_.disconnect(peer);
-        auto it = clients_.find(peer);
-        Client gone = std::move(it->second);
-        clients_.erase(it);
-        release(std::move(gone), false, "reconnect token no longer valid: the lobby was cancelled");
+        release(sessions_.take(peer), false, "reconnect token no longer valid: the lobby was cancelled");
     }
     broadcast_status();
 }
@@ -85,9 +78,8 @@ void RaceServer::check_drain() {
 std::vector<Racer> RaceServer::racers() const {
     std::vector<Racer> out;
     for (const auto& [slot, name] : racers_at_start_) {
-        const net::PeerId peer = slot_peer_[slot];
-        const auto it = clients_.find(peer);
-        const bool here = it != clients_.end() && it->second.name == name;
+        const Client* driver = sessions_.driver_of(slot);
+        const bool here = driver && driver->name == name;
         out.push_back({slot, name, !here});
     }
     return out;
@@ -105,7 +97,7 @@ void RaceServer::shutdown(const std::string& reason) {
     }
     done_ = true;
     if (observer) observer->stopped();
-    for (const auto& [peer, c] : clients_) {
+    for (const auto& [peer, c] : sessions_.clients()) {
         send(peer, net::Channel::reliable,
              proto::Goodbye{reason, static_cast<std::uint16_t>(proto::CloseCode::server_shutdown)});
         transport_.disconnect(peer);

@@ -39,7 +39,7 @@ RaceServer::RaceServer(const ServerConfig& config, const Scene& scene, net::Tran
       scene_(scene),
       transport_(transport),
       clock_(1e6 / scene.physics.tick_rate_hz),
-      slot_peer_(static_cast<std::size_t>(config.max_players), kNoPeer) {
+      sessions_(config.max_players) {
     world_ = make_world(config_.max_players, config_.laps);
     if (config_.connect_key) {
         verifier_ = std::make_unique<auth::TokenVerifier>(
@@ -49,16 +49,7 @@ RaceServer::RaceServer(const ServerConfig& config, const Scene& scene, net::Tran
     }
 }
 
-int RaceServer::players() const {
-    return static_cast<int>(std::count_if(clients_.begin(), clients_.end(), [](const auto& kv) { return kv.second.greeted; }));
-}
-
-int RaceServer::free_slot() const {
-    for (std::size_t s = 0; s < slot_peer_.size(); ++s) {
-        if (slot_peer_[s] == kNoPeer) return static_cast<int>(s);
-    }
-    return -1;
-}
+int RaceServer::players() const { return sessions_.players(); }
 
 void RaceServer::send(net::PeerId peer, net::Channel ch, const proto::Message& m) {
     const std::vector<std::uint8_t> bytes = proto::encode(m);
@@ -66,10 +57,10 @@ void RaceServer::send(net::PeerId peer, net::Channel ch, const proto::Message& m
 }
 
 void RaceServer::drop(net::PeerId peer, DropReason why, const std::string& reason) {
-    auto it = clients_.find(peer);
-    if (it == clients_.end()) return;
+    const Client* c = sessions_.find(peer);
+    if (!c) return;
     ++counters_.dropped[static_cast<std::size_t>(why)];
-    spdlog::warn("dropping client {} ({}): {}", peer, it->second.name.empty() ? "no name" : it->second.name, reason);
+    spdlog::warn("dropping client {} ({}): {}", peer, c->name.empty() ? "no name" : c->name, reason);
     std::string text = reason;
     if (text.size() > proto::kMaxReasonBytes) {
         // Cut at a character boundary: drop continuation bytes, then the lead byte.
@@ -79,9 +70,7 @@ void RaceServer::drop(net::PeerId peer, DropReason why, const std::string& reaso
     }
     send(peer, net::Channel::reliable, proto::Goodbye{text, static_cast<std::uint16_t>(close_code(why))});
     transport_.disconnect(peer);
-    Client gone = std::move(it->second);
-    clients_.erase(it);
-    release(std::move(gone), false, "reconnect token no longer valid: the server dropped the player");
+    release(sessions_.take(peer), false, "reconnect token no longer valid: the server dropped the player");
 }
 
 void RaceServer::refuse(Client& c, const std::string& name, Refusal why, const std::string& reason) {
@@ -93,36 +82,30 @@ void RaceServer::refuse(Client& c, const std::string& name, Refusal why, const s
 
 void RaceServer::on_event(const net::Event& e) {
     switch (e.type) {
-        case net::Event::Type::connected: {
-            Client c;
-            c.peer = e.peer;
-            c.connected_us = now_us_;
-            clients_[e.peer] = c;
+        case net::Event::Type::connected:
+            sessions_.connect(e.peer, now_us_);
             spdlog::info("client {} connected", e.peer);
             break;
-        }
         case net::Event::Type::disconnected: {
-            auto it = clients_.find(e.peer);
-            if (it == clients_.end()) break;
-            spdlog::info("client {} ({}) disconnected", e.peer, it->second.name);
-            Client gone = std::move(it->second);
-            clients_.erase(it);
+            const Client* c = sessions_.find(e.peer);
+            if (!c) break;
+            spdlog::info("client {} ({}) disconnected", e.peer, c->name);
             // Without a Goodbye (which forgets the client at once) the
             // connection dropped: the player may come back.
-            release(std::move(gone), true,
+            release(sessions_.take(e.peer), true,
                     "reconnect token no longer valid: this server keeps no slot for a dropped player");
             break;
         }
         case net::Event::Type::received: {
-            auto it = clients_.find(e.peer);
-            if (it == clients_.end()) break;
+            Client* c = sessions_.find(e.peer);
+            if (!c) break;
             proto::Message m;
             std::string error;
             if (!proto::decode(e.data, m, error)) {
                 drop(e.peer, DropReason::malformed, "malformed message: " + error);
                 break;
             }
-            on_message(it->second, m);
+            on_message(*c, m);
             break;
         }
     }
@@ -142,10 +125,8 @@ void RaceServer::on_message(Client& c, const proto::Message& m) {
         // reports the disconnect, and the player cannot reconnect.
         spdlog::info("client {} ({}) said goodbye", c.peer, c.name);
         transport_.disconnect(c.peer);
-        const auto it = clients_.find(c.peer);
-        Client gone = std::move(it->second);
-        clients_.erase(it);  // `c` is gone too
-        release(std::move(gone), false, "reconnect token no longer valid: the player said goodbye");
+        // `c` is gone too.
+        release(sessions_.take(c.peer), false, "reconnect token no longer valid: the player said goodbye");
     } else {
         drop(c.peer, DropReason::protocol, "protocol violation: clients may not send this message");
     }
@@ -183,7 +164,7 @@ void RaceServer::on_hello(Client& c, const proto::Hello& h) {
         }
         ticket = std::move(v.token);
     }
-    const int slot = free_slot();
+    const int slot = sessions_.first_free_slot();
     if (slot < 0) {
         refuse(c, h.name, Refusal::full, "server full (" + std::to_string(config_.max_players) + " players)");
         return;
@@ -197,7 +178,7 @@ void RaceServer::on_hello(Client& c, const proto::Hello& h) {
     c.name = h.name.empty() ? "player" + std::to_string(slot) : h.name;
     c.slot = slot;
     c.spectating = phase_ != proto::RacePhase::lobby;
-    slot_peer_[static_cast<std::size_t>(slot)] = c.peer;
+    sessions_.seat(c);
     max_players_seen_ = std::max(max_players_seen_, players());
     spdlog::info("client {} is '{}' in slot {}{}", c.peer, c.name, slot, c.spectating ? " (spectating until the next race)" : "");
     send_welcome(c);
@@ -262,12 +243,14 @@ void RaceServer::broadcast_status() {
     s.race_number = race_number_;
     s.start_tick = world_.start_tick;
     s.laps = static_cast<std::uint16_t>(config_.laps);
-    for (const auto& [peer, c] : clients_) {
+    for (const auto& [peer, c] : sessions_.clients()) {
         if (!c.greeted) continue;
         s.players.push_back({static_cast<std::uint8_t>(c.slot), c.name, c.spectating});
     }
-    for (const auto& [slot, h] : held_) s.players.push_back({static_cast<std::uint8_t>(slot), h.client.name, h.client.spectating});
-    for (const auto& [peer, c] : clients_) {
+    for (const auto& [slot, h] : sessions_.held()) {
+        s.players.push_back({static_cast<std::uint8_t>(slot), h.client.name, h.client.spectating});
+    }
+    for (const auto& [peer, c] : sessions_.clients()) {
         if (c.greeted) send(peer, net::Channel::reliable, s);
     }
 }
@@ -287,13 +270,7 @@ int RaceServer::update(std::uint64_t now_us) {
     transport_.service(now_us / 1000, events_);
     for (const net::Event& e : events_) on_event(e);
     // Drop connections that never said hello.
-    std::vector<net::PeerId> silent;
-    for (const auto& [peer, c] : clients_) {
-        if (!c.greeted && now_us - c.connected_us > static_cast<std::uint64_t>(config_.hello_timeout_s * 1e6)) {
-            silent.push_back(peer);
-        }
-    }
-    for (net::PeerId p : silent) {
+    for (net::PeerId p : sessions_.silent(now_us, static_cast<std::uint64_t>(config_.hello_timeout_s * 1e6))) {
         drop(p, DropReason::no_hello, std::string(proto::kNoHelloReason) + " " + std::to_string(config_.hello_timeout_s) + " s");
     }
     expire_held();

@@ -15,16 +15,14 @@
 #include "jetrace/server/counters.hpp"
 #include "jetrace/server/input_queue.hpp"
 #include "jetrace/server/race_observer.hpp"
+#include "jetrace/server/session_table.hpp"
 #include "jetrace/server/snapshot_history.hpp"
 #include "jetrace/tick_clock.hpp"
 #include "jetrace/value_range.hpp"
 #include "jetrace/world.hpp"
 
-#include <array>
 #include <cstdint>
 #include <functional>
-#include <deque>
-#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -167,7 +165,7 @@ public:
     std::uint64_t refused_pre_hello() const { return transport_.totals().connects_refused; }
     int players() const;
     /// Slots held for players who dropped, waiting for their reconnect.
-    int held_slots() const { return static_cast<int>(held_.size()); }
+    int held_slots() const { return static_cast<int>(sessions_.held().size()); }
     /// The race under way or last run (0 before the first).
     std::uint32_t race_number() const { return race_number_; }
     /// What the server counted so far (server/src/observe.cpp).
@@ -186,32 +184,6 @@ public:
     std::function<void(const auth::TokenVerifier&)> on_nonce_spent;
 
 private:
-    /// Spent reconnect tokens remembered to refuse them with a clear reason.
-    static constexpr std::size_t kRetiredTokens = 256;
-    using ReconnectToken = std::array<std::uint8_t, proto::kTokenBytes>;
-
-    struct Client {
-        net::PeerId peer = 0;
-        bool greeted = false;
-        std::string name;
-        /// Hello.name as sent (a reconnect must send the same).
-        std::string hello_name;
-        ReconnectToken reconnect_token{};
-        int slot = -1;
-        bool spectating = false;
-        std::uint64_t connected_us = 0;
-        InputQueue inputs;
-        std::uint32_t acked_snapshot = proto::kNoTick;
-        /// Anomalies already logged for this client (bits of Anomaly).
-        std::uint8_t logged_anomalies = 0;
-        /// What a new race or a new connection starts without: inputs and
-        /// the acknowledged snapshot.
-        void reset_link_state() {
-            inputs.reset();
-            acked_snapshot = proto::kNoTick;
-        }
-    };
-
     /// Odd but harmless client behaviour: the data is ignored, the first
     /// occurrence of each kind per client is logged (a flood never floods the
     /// log). Inputs too far ahead are also what an honest client sends for
@@ -234,9 +206,6 @@ private:
     void release(Client&& c, bool may_return, std::string why);
     void expire_held();
     void on_reconnect(Client& c, const proto::Hello& h);
-    void retire(const ReconnectToken& token, std::string why);
-    /// The connected or held client in `slot`, or nullptr.
-    const Client* owner_of(int slot) const;
     void send(net::PeerId peer, net::Channel ch, const proto::Message& m);
     void broadcast_status();
 
@@ -252,7 +221,6 @@ private:
     void observe_end(replay::EndReason reason, std::uint64_t hash);
     std::vector<proto::StandingEntry> current_standings() const;
     std::vector<Racer> racers() const;
-    int free_slot() const;
 
     ServerConfig config_;
     const Scene& scene_;
@@ -261,17 +229,7 @@ private:
     bool started_clock_ = false;
     std::uint64_t now_us_ = 0;
 
-    std::map<net::PeerId, Client> clients_;  // ordered: deterministic iteration
-    std::vector<net::PeerId> slot_peer_;     // per slot, or kNoPeer
-    static constexpr net::PeerId kNoPeer = 0xFFFFFFFFu;
-    /// In slot_peer_: the slot's player dropped and may reconnect (held_).
-    static constexpr net::PeerId kHeldPeer = 0xFFFFFFFEu;
-    struct Held {
-        Client client;
-        std::uint64_t until_us = 0;
-    };
-    std::map<int, Held> held_;  // by slot
-    std::deque<std::pair<ReconnectToken, std::string>> retired_;
+    SessionTable sessions_;
     std::unique_ptr<auth::TokenVerifier> verifier_;  // private races only
     std::int64_t unix_time_s_ = -1;                  // -1: not set
 
