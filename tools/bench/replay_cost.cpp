@@ -55,10 +55,10 @@ double run(const Scene& scene, const Race& race, const std::string& path, const 
 
 }  // namespace
 
-int run_replay_cost(const ReplayCostOptions& o) {
-    Track track;
-    make_builtin_track("stadium", track);
-    const Scene scene = Scene::make(std::move(track), PhysicsSettings{});
+namespace {
+
+// The inputs of an AI race of o.cars for o.seconds.
+Race ai_race(const Scene& scene, const ReplayCostOptions& o) {
     Race race;
     race.start = start_race(scene, o.cars, 3);
     {
@@ -67,6 +67,16 @@ int run_replay_cost(const ReplayCostOptions& o) {
         InputTape tape(race);
         run_ai(scene, st, skills_for(o.cars, 1), static_cast<std::uint32_t>(o.seconds * 120 + 0.5), false, scratch, &tape);
     }
+    return race;
+}
+
+}  // namespace
+
+int run_replay_cost(const ReplayCostOptions& o) {
+    Track track;
+    make_builtin_track("stadium", track);
+    const Scene scene = Scene::make(std::move(track), PhysicsSettings{});
+    const Race race = ai_race(scene, o);
     const std::string dir = o.dir.empty() ? std::filesystem::temp_directory_path().string() : o.dir;
     const std::string plain = dir + "/jetrace-bench-replay.jtr", signed_path = dir + "/jetrace-bench-replay-signed.jtr";
     const std::optional<replay::SigningKey> key = auth::generate_key_pair().secret_key;

@@ -86,73 +86,82 @@ WorldState lattice(const Scene& sc, int n) {
     return st;
 }
 
+// grid_cell.csv: one track, the grid's cell size varied.
+void study_grid_cell(const StudyOptions& o, const PhysicsSettings& ps, const Track& stadium, int ticks) {
+    Csv csv(o.out_dir, "grid_cell.csv",
+            {"cell_m", "cells", "entries", "grid_bytes", "build_ms", "ns_per_car_step", "is_default"});
+    const double def_cell = UniformGrid::cell_size_for(stadium.bounds, ps.car_radius_m);
+    const std::vector<double> cells = o.quick ? std::vector<double>{5, 10, 40, 160}
+                                              : std::vector<double>{5, 7.5, 10, 15, 20, 30, 40, 80, 160, 400};
+    std::vector<Scene> scenes;
+    std::vector<double> build_ms;
+    for (double cell : cells) {
+        const CpuTimer timer;
+        scenes.push_back(Scene::make(stadium, ps, cell));
+        build_ms.push_back(timer.ns() * 1e-6);
+    }
+    // Timing rounds over every cell size; medians reported.
+    std::vector<std::vector<double>> ns(scenes.size());
+    for (int r = 0; r < o.repeats; ++r) {
+        for (std::size_t k = 0; k < scenes.size(); ++k) ns[k].push_back(ns_per_car_step(scenes[k], ticks, 1));
+    }
+    for (std::size_t k = 0; k < scenes.size(); ++k) {
+        const UniformGrid& g = scenes[k].grid;
+        csv.cell(cells[k]).cell(static_cast<long long>(g.cell_count())).cell(g.entry_count());
+        csv.cell(g.memory_bytes()).cell(build_ms[k]).cell(median(ns[k])).cell(cells[k] == def_cell).end();
+    }
+}
+
+// track_size.csv: finer and larger tracks, the default cell size.
+void study_track_size(const StudyOptions& o, const PhysicsSettings& ps, int ticks) {
+    Csv csv(o.out_dir, "track_size.csv",
+            {"kind", "parameter", "triangles", "cell_m", "grid_bytes", "build_ms", "ns_per_car_step"});
+    const auto measure = [&](const char* kind, double param, const Track& track, double cell_m = 0.0) {
+        const CpuTimer timer;
+        const Scene sc = Scene::make(track, ps, cell_m);
+        const double build = timer.ns() * 1e-6;
+        csv.cell(kind).cell(param).cell(track.triangles.size()).cell(sc.grid.cell_size_m());
+        csv.cell(sc.grid.memory_bytes()).cell(build).cell(ns_per_car_step(sc, ticks, o.repeats)).end();
+    };
+    const std::vector<double> floors = o.quick ? std::vector<double>{35, 5, 1.15}
+                                               : std::vector<double>{35, 17.5, 10, 5, 2.5, 1.6, 1.15};
+    for (double f : floors) {
+        const Track t = lab::refined_stadium(f);
+        measure("refined", f, t);
+        // The same with 5 m cells (below the rule's 4 radii): fewer candidates, 8x the cells.
+        if (f <= 5.0) measure("refined_cell5", f, t, 5.0);
+    }
+    const std::vector<int> tiles = o.quick ? std::vector<int>{1, 5, 27} : std::vector<int>{1, 2, 4, 8, 14, 20, 27};
+    for (int n : tiles) measure("tiled", n, lab::tiled_stadium(n));
+}
+
+// cars.csv: the cost of a tick against the number of cars.
+void study_car_count(const StudyOptions& o, const PhysicsSettings& ps, const Track& stadium) {
+    Csv csv(o.out_dir, "cars.csv", {"cars", "ns_per_tick", "ns_per_car_step", "collide_ns_per_tick"});
+    const Scene sc = Scene::make(stadium, ps);
+    const std::vector<int> counts = o.quick ? std::vector<int>{1, 10, 100, 1000}
+                                            : std::vector<int>{1, 2, 5, 10, 20, 50, 100, 200, 500, 1000};
+    const int car_ticks = static_cast<int>((o.quick ? 0.5 : 2.0) * ps.tick_rate_hz);
+    for (int n : counts) {
+        std::vector<double> tick_ns, collide_ns;
+        for (int r = 0; r < o.repeats; ++r) {
+            const Timing t = race(sc, lattice(sc, n), car_ticks, true);
+            tick_ns.push_back(t.ns_per_tick);
+            collide_ns.push_back(t.collide_ns_per_tick);
+        }
+        csv.cell(n).cell(median(tick_ns)).cell(median(tick_ns) / n).cell(median(collide_ns)).end();
+    }
+}
+
 }  // namespace
 
 void study_scale(const StudyOptions& o) {
     const PhysicsSettings ps;
     const int ticks = static_cast<int>((o.quick ? 2.0 : 10.0) * ps.tick_rate_hz);
     const Track stadium = make_oval(stadium_params());
-    {
-        Csv csv(o.out_dir, "grid_cell.csv",
-                {"cell_m", "cells", "entries", "grid_bytes", "build_ms", "ns_per_car_step", "is_default"});
-        const double def_cell = UniformGrid::cell_size_for(stadium.bounds, ps.car_radius_m);
-        const std::vector<double> cells = o.quick ? std::vector<double>{5, 10, 40, 160}
-                                                  : std::vector<double>{5, 7.5, 10, 15, 20, 30, 40, 80, 160, 400};
-        std::vector<Scene> scenes;
-        std::vector<double> build_ms;
-        for (double cell : cells) {
-            const CpuTimer timer;
-            scenes.push_back(Scene::make(stadium, ps, cell));
-            build_ms.push_back(timer.ns() * 1e-6);
-        }
-        // Timing rounds over every cell size; medians reported.
-        std::vector<std::vector<double>> ns(scenes.size());
-        for (int r = 0; r < o.repeats; ++r) {
-            for (std::size_t k = 0; k < scenes.size(); ++k) ns[k].push_back(ns_per_car_step(scenes[k], ticks, 1));
-        }
-        for (std::size_t k = 0; k < scenes.size(); ++k) {
-            const UniformGrid& g = scenes[k].grid;
-            csv.cell(cells[k]).cell(static_cast<long long>(g.cell_count())).cell(g.entry_count());
-            csv.cell(g.memory_bytes()).cell(build_ms[k]).cell(median(ns[k])).cell(cells[k] == def_cell).end();
-        }
-    }
-    {
-        Csv csv(o.out_dir, "track_size.csv",
-                {"kind", "parameter", "triangles", "cell_m", "grid_bytes", "build_ms", "ns_per_car_step"});
-        const auto measure = [&](const char* kind, double param, const Track& track, double cell_m = 0.0) {
-            const CpuTimer timer;
-            const Scene sc = Scene::make(track, ps, cell_m);
-            const double build = timer.ns() * 1e-6;
-            csv.cell(kind).cell(param).cell(track.triangles.size()).cell(sc.grid.cell_size_m());
-            csv.cell(sc.grid.memory_bytes()).cell(build).cell(ns_per_car_step(sc, ticks, o.repeats)).end();
-        };
-        const std::vector<double> floors = o.quick ? std::vector<double>{35, 5, 1.15}
-                                                   : std::vector<double>{35, 17.5, 10, 5, 2.5, 1.6, 1.15};
-        for (double f : floors) {
-            const Track t = lab::refined_stadium(f);
-            measure("refined", f, t);
-            // The same with 5 m cells (below the rule's 4 radii): fewer candidates, 8x the cells.
-            if (f <= 5.0) measure("refined_cell5", f, t, 5.0);
-        }
-        const std::vector<int> tiles = o.quick ? std::vector<int>{1, 5, 27} : std::vector<int>{1, 2, 4, 8, 14, 20, 27};
-        for (int n : tiles) measure("tiled", n, lab::tiled_stadium(n));
-    }
-    {
-        Csv csv(o.out_dir, "cars.csv", {"cars", "ns_per_tick", "ns_per_car_step", "collide_ns_per_tick"});
-        const Scene sc = Scene::make(stadium, ps);
-        const std::vector<int> counts = o.quick ? std::vector<int>{1, 10, 100, 1000}
-                                                : std::vector<int>{1, 2, 5, 10, 20, 50, 100, 200, 500, 1000};
-        const int car_ticks = static_cast<int>((o.quick ? 0.5 : 2.0) * ps.tick_rate_hz);
-        for (int n : counts) {
-            std::vector<double> tick_ns, collide_ns;
-            for (int r = 0; r < o.repeats; ++r) {
-                const Timing t = race(sc, lattice(sc, n), car_ticks, true);
-                tick_ns.push_back(t.ns_per_tick);
-                collide_ns.push_back(t.collide_ns_per_tick);
-            }
-            csv.cell(n).cell(median(tick_ns)).cell(median(tick_ns) / n).cell(median(collide_ns)).end();
-        }
-    }
+    study_grid_cell(o, ps, stadium, ticks);
+    study_track_size(o, ps, ticks);
+    study_car_count(o, ps, stadium);
 }
 
 }  // namespace jetrace::bench
