@@ -109,7 +109,9 @@ void check_track(const std::string& track, int cars, std::uint32_t ticks, std::u
                 static_cast<unsigned long long>(w.reused_car_steps));
     EXPECT_GT(checks, 100);
     // Every shortcut was taken, so the comparison covered it.
-    if (expect_skips) EXPECT_GT(w.skipped_replays, 0u);
+    if (expect_skips) {
+        EXPECT_GT(w.skipped_replays, 0u);
+    }
     EXPECT_GT(w.reused_car_steps, 0u);
 }
 

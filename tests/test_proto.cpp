@@ -92,8 +92,8 @@ std::vector<jp::Message> sample_messages() {
     out.push_back(jp::Hello{7, "\xc3\xa9t\xc3\xa9 \xe2\x9c\x93 1234567890123456789012", token(3), {}});  // 32 bytes
     out.push_back(jp::Hello{0, "", {}, {}});
     out.push_back(jp::Hello{2, "Alain", token(4), std::vector<std::uint8_t>(jp::kMaxConnectTokenBytes, 0x5A)});
-    out.push_back(jp::Welcome{1, 5, 8, 120, 60, "ring", 0x1234567890abcdefull, 0xfedcba0987654321ull, 99, token(9)});
-    out.push_back(jp::Welcome{2, 63, 64, 10000, 1, std::string(256, 't'), 0, 0, 0xFFFFFFFFu, {}});
+    out.push_back(jp::Welcome{1, 5, 8, 120, 60, "ring", 0x1234567890abcdefull, 0xfedcba0987654321ull, 99, token(9), {}});
+    out.push_back(jp::Welcome{2, 63, 64, 10000, 1, std::string(256, 't'), 0, 0, 0xFFFFFFFFu, {}, {}});
     out.push_back(jp::Refuse{"server full"});
     out.push_back(jp::Refuse{std::string(256, 'r')});
     out.push_back(jp::Refuse{"server full", static_cast<std::uint16_t>(jp::CloseCode::refused_full)});

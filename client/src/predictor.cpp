@@ -3,7 +3,6 @@
 #include "jetrace/car_fields.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <cstring>
 
 namespace jetrace::client {
@@ -23,25 +22,8 @@ Input known_input(const proto::WorldSnapshot& snap, std::size_t slot, std::uint3
     return snap.last_inputs[slot];
 }
 
-template <class T>
-std::uint64_t bits_of(const T& v) {
-    if constexpr (std::is_same_v<T, double>) {
-        return std::bit_cast<std::uint64_t>(v);
-    } else {
-        return static_cast<std::uint64_t>(v);
-    }
-}
-
-bool same_car(const CarState& a, const CarState& b) {
-    // Bit for bit, field by field (never the padding): -0 and 0 differ.
-    std::array<std::uint64_t, kCarFieldCount> fa{};
-    std::size_t n = 0;
-    visit_car_fields(a, [&](const char*, const auto& v) { fa[n++] = bits_of(v); });
-    n = 0;
-    bool same = true;
-    visit_car_fields(b, [&](const char*, const auto& v) { same = same && fa[n++] == bits_of(v); });
-    return same;
-}
+// Bit for bit, field by field (never the padding): -0 and 0 differ.
+bool same_car(const CarState& a, const CarState& b) { return car_field_bits(a) == car_field_bits(b); }
 
 std::uint32_t root(std::vector<std::uint32_t>& parent, std::uint32_t i) {
     while (parent[i] != i) i = parent[i] = parent[parent[i]];
@@ -93,9 +75,9 @@ bool same_world(const WorldState& a, const WorldState& b) {
 }
 
 void Predictor::reset() {
-    my_input_ticks_.fill(proto::kNoTick);
-    my_state_ticks_.fill(proto::kNoTick);
-    for (Frame& f : frames_) f.tick = proto::kNoTick;
+    my_inputs_.clear();
+    my_states_.clear();
+    frames_.clear();
 }
 
 void Predictor::start(const WorldState& w) { world_ = w; }
@@ -128,10 +110,8 @@ void Predictor::fill_inputs(const proto::WorldSnapshot& snap, std::size_t own, s
 
 void Predictor::step_kept(const Scene& scene, WorldState& w, const std::vector<Input>& inputs, std::size_t own) {
     const std::uint32_t t = w.tick;
-    my_states_[t % kRing] = w.cars[own];
-    my_state_ticks_[t % kRing] = t;
-    Frame& f = frames_[t % kFrames];
-    f.tick = t;
+    my_states_.insert(t, w.cars[own]);
+    Frame& f = frames_.insert(t);
     f.world = w;  // reuses the frame's storage
     f.inputs = inputs;
     step(scene, w, inputs, scratch_);
@@ -139,8 +119,7 @@ void Predictor::step_kept(const Scene& scene, WorldState& w, const std::vector<I
 
 void Predictor::run_tick(const Scene& scene, std::size_t own, const Input& mine, const proto::WorldSnapshot& latest) {
     const std::uint32_t t = world_.tick;
-    my_inputs_[t % kRing] = mine;
-    my_input_ticks_[t % kRing] = t;
+    my_inputs_.insert(t, mine);
     if (thin_) {
         ++world_.tick;
         return;
@@ -153,12 +132,12 @@ void Predictor::run_tick(const Scene& scene, std::size_t own, const Input& mine,
 
 std::uint32_t Predictor::first_stale_tick(const proto::WorldSnapshot& snap, std::size_t own, std::uint32_t target) {
     const std::uint32_t S = snap.state.tick;
-    if (!holds(S) || !same_world(frames_[S % kFrames].world, snap.state)) return S;
+    if (!holds(S) || !same_world(frame(S).world, snap.state)) return S;
     std::uint32_t t = S;
     while (t < target && holds(t)) {
         fill_inputs(snap, own, t, inputs_);
-        effective_inputs(frames_[t % kFrames].world, inputs_);  // the new world at t, so far
-        if (inputs_ != frames_[t % kFrames].inputs) return t;
+        effective_inputs(frame(t).world, inputs_);  // the new world at t, so far
+        if (inputs_ != frame(t).inputs) return t;
         ++t;
     }
     // Every tick up to the target agrees: nothing to step again. A frame
@@ -192,11 +171,10 @@ Predictor::Outcome Predictor::reconcile(const Scene& scene, const proto::WorldSn
         o.resynced = true;
         return o;
     }
-    if (check_own && my_state_ticks_[S % kRing] == S) {
-        const CarState& mine = my_states_[S % kRing];
-        if (car_hash(mine) != car_hash(snap.state.cars[own])) {
+    if (const CarState* mine = check_own ? my_states_.find(S) : nullptr) {
+        if (car_hash(*mine) != car_hash(snap.state.cars[own])) {
             o.corrected = true;
-            o.error_m = (mine.position - snap.state.cars[own].position).norm();
+            o.error_m = (mine->position - snap.state.cars[own].position).norm();
         }
     }
     // Restore the server's state and replay the ticks since with our own
@@ -207,7 +185,7 @@ Predictor::Outcome Predictor::reconcile(const Scene& scene, const proto::WorldSn
         ++work_.skipped_replays;
         return o;
     }
-    replay_ = from == S ? snap.state : frames_[from % kFrames].world;
+    replay_ = from == S ? snap.state : frame(from).world;
     for (std::uint32_t t = from; t < target; ++t) replay_tick(scene, snap, own, t, target);
     std::swap(world_, replay_);  // both keep their storage
     work_.replayed_ticks += target - from;
@@ -253,13 +231,13 @@ void Predictor::replay_tick(const Scene& scene, const proto::WorldSnapshot& snap
     fill_inputs(snap, own, t, inputs_);
     effective_inputs(replay_, inputs_);
     const bool kept_next = t + 1 == target || holds(t + 1);
-    if (!holds(t) || !kept_next || !find_reusable(scene, frames_[t % kFrames])) {
+    if (!holds(t) || !kept_next || !find_reusable(scene, frame(t))) {
         step_kept(scene, replay_, inputs_, own);
         return;
     }
     // The kept next tick (read before step_kept overwrites tick t's frame;
     // tick t + 1's is overwritten only by the next replayed tick).
-    const WorldState& next = t + 1 == target ? world_ : frames_[(t + 1) % kFrames].world;
+    const WorldState& next = t + 1 == target ? world_ : frame(t + 1).world;
     const std::size_t n = replay_.cars.size();
     std::uint64_t reused = 0;
     for (std::size_t i = 0; i < n; ++i) {
@@ -267,14 +245,14 @@ void Predictor::replay_tick(const Scene& scene, const proto::WorldSnapshot& snap
     }
     // step_kept keeps tick t's frame with the reused cars inactive: restore them.
     step_kept(scene, replay_, inputs_, own);
-    Frame& f = frames_[t % kFrames];
+    Frame& f = *frames_.find(t);  // step_kept just kept it
     for (std::size_t i = 0; i < n; ++i) {
         if (!reuse_[i]) continue;
         f.world.cars[i].active = true;
         replay_.cars[i] = next.cars[i];
         ++reused;
     }
-    if (reuse_[own]) my_states_[t % kRing] = f.world.cars[own];
+    if (reuse_[own]) my_states_.insert(t, f.world.cars[own]);
     work_.reused_car_steps += reused;
 }
 

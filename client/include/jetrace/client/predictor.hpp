@@ -26,6 +26,7 @@
 
 #include "jetrace/proto/messages.hpp"
 #include "jetrace/proto/world_codec.hpp"
+#include "jetrace/tick_ring.hpp"
 #include "jetrace/world.hpp"
 
 #include <array>
@@ -74,9 +75,7 @@ public:
     Outcome reconcile(const Scene& scene, const proto::WorldSnapshot& snap, std::size_t own, bool check_own);
 
     /// The own input used for tick t, or nullptr if none is kept.
-    const Input* my_input(std::uint32_t t) const {
-        return my_input_ticks_[t % kRing] == t ? &my_inputs_[t % kRing] : nullptr;
-    }
+    const Input* my_input(std::uint32_t t) const { return my_inputs_.find(t); }
     /// Fills `b` (first_tick, inputs) with the own inputs the server has not
     /// applied yet: after `last_applied` (kNoTick: none), up to the predicted
     /// tick, at most kMaxInputsPerBatch, none older than a gap. False: none.
@@ -86,9 +85,8 @@ public:
 private:
     static constexpr std::size_t kRing = 256;
     /// Ticks whose start world is kept (more than the largest lead).
-    static constexpr std::size_t kFrames = 40;
+    static constexpr std::size_t kFrames = 64;
     struct Frame {
-        std::uint32_t tick = proto::kNoTick;
         WorldState world;  // at the start of the tick
         std::vector<Input> inputs;  // stepped with
     };
@@ -100,7 +98,9 @@ private:
     void step_kept(const Scene& scene, WorldState& w, const std::vector<Input>& inputs, std::size_t own);
     /// The first tick from which the prediction must be stepped again.
     std::uint32_t first_stale_tick(const proto::WorldSnapshot& snap, std::size_t own, std::uint32_t target);
-    bool holds(std::uint32_t t) const { return frames_[t % kFrames].tick == t; }
+    bool holds(std::uint32_t t) const { return frames_.has(t); }
+    /// The kept frame of tick t (holds(t)).
+    const Frame& frame(std::uint32_t t) const { return *frames_.find(t); }
     void reconcile_thin(const proto::WorldSnapshot& snap, Outcome& o);
     /// Steps replay_ through tick t (< target), reusing the kept next tick
     /// for the cars it can (see the file comment).
@@ -113,11 +113,9 @@ private:
     WorldState world_;
     WorldState replay_;  // the replay's world
     StepScratch scratch_;
-    std::array<Input, kRing> my_inputs_{};
-    std::array<std::uint32_t, kRing> my_input_ticks_{};
-    std::array<CarState, kRing> my_states_{};  // own car at the start of tick t
-    std::array<std::uint32_t, kRing> my_state_ticks_{};
-    std::array<Frame, kFrames> frames_{};
+    TickRing<Input, kRing> my_inputs_;
+    TickRing<CarState, kRing> my_states_;  // own car at the start of tick t
+    TickRing<Frame, kFrames> frames_;
     std::vector<Input> inputs_;  // of the tick being stepped
     std::vector<char> reuse_;  // per car: taken from the kept next tick
     std::vector<std::uint32_t> parent_;  // groups of cars within reach

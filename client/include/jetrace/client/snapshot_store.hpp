@@ -15,8 +15,8 @@ namespace jetrace::client {
 
 class SnapshotStore {
 public:
-    /// Worlds kept, by tick modulo this (more than a baseline's age).
-    static constexpr std::size_t kKept = 128;
+    /// Worlds kept, by tick modulo this: every tick a baseline can be.
+    static constexpr std::size_t kKept = proto::kBaselineWindowTicks;
     struct Entry {
         std::uint32_t tick = proto::kNoTick;
         proto::WorldSnapshot world;

@@ -45,6 +45,10 @@ inline constexpr std::size_t kTokenBytes = 16;
 inline constexpr std::size_t kMaxConnectTokenBytes = 256;
 /// "No baseline": the snapshot is encoded against nothing.
 inline constexpr std::uint32_t kNoTick = 0xFFFFFFFFu;
+/// A Snapshot's baseline is less than this many ticks older than it: the
+/// server keeps its snapshots of that many ticks, and a client keeps the
+/// worlds it decoded for as long (docs/PROTOCOL.md, "Baseline").
+inline constexpr std::size_t kBaselineWindowTicks = 128;
 
 enum class RacePhase : std::uint8_t { lobby = 0, countdown = 1, racing = 2, finished = 3 };
 const char* to_string(RacePhase p);

@@ -17,7 +17,7 @@ class SnapshotHistory {
 public:
     /// Ticks of snapshots kept. A client whose acknowledged snapshot is
     /// older gets a full snapshot instead of a delta.
-    static constexpr std::size_t kTicks = 128;
+    static constexpr std::size_t kTicks = proto::kBaselineWindowTicks;
 
     /// Forgets every snapshot (a new race).
     void clear();
