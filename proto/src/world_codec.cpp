@@ -278,7 +278,7 @@ std::int64_t put_header(BitWriter& w, const WorldSnapshot& now, const WorldSnaps
     std::int64_t n = 0;
     if (baseline) {
         const WorldState& b = baseline->state;
-        assert(b.cars.size() == slots && baseline->last_inputs.size() == slots);
+        assert(b.cars.size() == s.cars.size() && baseline->last_inputs.size() == s.cars.size());
         assert(s.tick >= b.tick && "encode_world: baseline newer than the state");
         assert(baseline->tick_rate_hz == now.tick_rate_hz);
         n = std::int64_t{s.tick} - b.tick;
@@ -325,7 +325,7 @@ std::vector<std::uint8_t> encode_world(const WorldSnapshot& now, const WorldSnap
     assert(now.tick_rate_hz >= 1 && now.tick_rate_hz <= kMaxTickRate);
     BitWriter w;
     const std::int64_t n = put_header(w, now, baseline);
-    const int rate = now.tick_rate_hz;
+    const int rate = baseline ? baseline->tick_rate_hz : now.tick_rate_hz;
     w.put(slots, 7);
     for (std::size_t i = 0; i < slots; ++i) {
         const CarState& car = s.cars[i];
