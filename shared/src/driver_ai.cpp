@@ -21,30 +21,109 @@ bool touches_track(const Scene& sc, const Vec3& p) {
 
 Vec3 in_plane(const Vec3& v, const Vec3& n) { return v - n * v.dot(n); }
 
-// Highest speed at which the car can still slow down for the corners at the
-// next few gates (unit: m/s).
-double speed_limit(const Scene& sc, const CarState& car, const Vec3& up, const DriverSkill& skill) {
-    const auto& gates = sc.track.checkpoints;
-    const auto k = static_cast<std::int32_t>(gates.size());
+// The gates as a closed polyline, seen from one car.
+struct Route {
+    const std::vector<Checkpoint>& gates;
+    std::int32_t count;
+    const Checkpoint& at(std::int32_t i) const {
+        const std::int32_t k = ((i % count) + count) % count;
+        return gates[static_cast<std::size_t>(k)];
+    }
+};
+
+// The point `ahead` metres along the route from the car's projection onto
+// the leg into gate `next` (unit: m).
+Vec3 route_point(const Route& r, std::int32_t next, const Vec3& p, const Vec3& up, double ahead) {
+    const Vec3 a = r.at(next - 1).center;
+    const Vec3 b = r.at(next).center;
+    const Vec3 ab = in_plane(b - a, up);
+    const double len2 = ab.squaredNorm();
+    const double t = len2 > 1e-9 ? std::clamp(in_plane(p - a, up).dot(ab) / len2, 0.0, 1.0) : 1.0;
+    Vec3 from = a + (b - a) * t;
+    double left = ahead;
+    for (std::int32_t i = 0; i < 16 && i < r.count; ++i) {
+        const Vec3 leg = r.at(next + i).center - from;
+        const double len = in_plane(leg, up).norm();
+        if (len >= left) return from + leg * (left / len);
+        left -= len;
+        from = r.at(next + i).center;
+    }
+    return from;
+}
+
+// Where to steer: the route point ahead, unless the straight line to it
+// would miss the next gate (then that gate's centre).
+Vec3 pursuit_point(const Route& r, const CarState& car, const Vec3& up, double ahead) {
+    const Checkpoint& g = r.at(car.next_checkpoint);
+    const Vec3 p = car.position;
+    const double to_plane = (g.center - p).dot(g.normal);
+    // Already past the gate's plane without crossing it (a start beside a
+    // gate at a corner, an overshoot): go round to a point before it first.
+    if (to_plane < 0.0 && std::abs((p - g.center).dot(g.across)) < g.half_width_m + 10.0) {
+        return g.center - g.normal * 15.0;
+    }
+    const Vec3 x = route_point(r, car.next_checkpoint, p, up, ahead);
+    const double along = (x - p).dot(g.normal);
+    if (to_plane <= 0.0 || along <= to_plane) return x;  // the aim is before the gate
+    const Vec3 cross = p + (x - p) * (to_plane / along);
+    if (std::abs((cross - g.center).dot(g.across)) <= g.half_width_m * 0.6) return x;
+    return g.center;
+}
+
+// Turn at gate `i` (chord between the unit directions of the legs in and
+// out, about the angle in radians) and the legs' mean length (unit: m).
+void corner_at(const Route& r, std::int32_t i, const Vec3& up, double& turn, double& span) {
+    const Vec3 in = in_plane(r.at(i).center - r.at(i - 1).center, up);
+    const Vec3 out = in_plane(r.at(i + 1).center - r.at(i).center, up);
+    turn = (normalized_or(in, up) - normalized_or(out, up)).norm();
+    span = 0.5 * (in.norm() + out.norm());
+}
+
+// Highest speed at which the car can still slow down for every corner
+// within its braking distance (unit: m/s).
+double speed_limit(const Scene& sc, const Route& r, const CarState& car, const Vec3& up, const DriverSkill& skill) {
     const double decel = sc.physics.brake_mps2 * 0.8;
+    const double speed = in_plane(car.velocity, up).norm();
+    const double horizon = speed * speed / (2.0 * decel) + 60.0;
     double limit = 1e9;
-    double dist = in_plane(gates[static_cast<std::size_t>(car.next_checkpoint)].center - car.position, up).norm();
-    for (int ahead = 0; ahead < 4; ++ahead) {
-        const Checkpoint& a = gates[static_cast<std::size_t>((car.next_checkpoint + ahead) % k)];
-        const Checkpoint& b = gates[static_cast<std::size_t>((car.next_checkpoint + ahead + 1) % k)];
-        const Vec3 ab = b.center - a.center;
-        const double seg = in_plane(ab, a.up).norm();
-        // Angle between the gates' directions, from the chord of unit normals.
-        const double turn = (a.normal - b.normal).norm();
+    double dist = in_plane(r.at(car.next_checkpoint).center - car.position, up).norm();
+    for (std::int32_t ahead = 0; ahead < r.count && ahead < 64 && dist < horizon; ++ahead) {
+        const std::int32_t i = car.next_checkpoint + ahead;
+        double turn = 0.0, span = 0.0;
+        corner_at(r, i, up, turn, span);
         double corner_speed = 1e9;
-        if (turn > 1e-3) corner_speed = std::sqrt(skill.corner_mps2 * (seg / turn));
-        // A gate passed climbing (its direction points up, like the top of the
-        // wall): arrive slowly, or the car flies far above it.
-        if (a.normal.y() > 0.5) corner_speed = std::min(corner_speed, skill.climb_top_mps);
+        if (turn > 1e-3) corner_speed = std::sqrt(skill.corner_mps2 * span / turn);
+        // A gate passed climbing (it points up, like the top of the wall):
+        // arrive slowly, or the car flies far above it.
+        if (r.at(i).normal.y() > 0.5) corner_speed = std::min(corner_speed, skill.climb_top_mps);
         limit = std::min(limit, std::sqrt(corner_speed * corner_speed + 2.0 * decel * dist));
-        dist += seg;
+        dist += in_plane(r.at(i + 1).center - r.at(i).center, up).norm();
     }
     return limit;
+}
+
+// Stuck (no progress towards the gate for a while, barely moving): brake
+// and turn on the spot towards the aim, then drive; every few seconds try
+// the other way round. Returns false if the car is not stuck.
+bool unstick(const Scene& sc, const CarState& car, double error, double speed, Input& out) {
+    const auto hz = static_cast<std::uint32_t>(sc.physics.tick_rate_hz);
+    if (car.no_progress_ticks < hz * 3 / 2 || speed > 6.0) return false;
+    const std::uint32_t phase = (car.no_progress_ticks - hz * 3 / 2) % (hz * 4);
+    const double turn = phase < hz * 5 / 2 ? error : -error;
+    if (std::abs(turn) > 0.3 || (phase >= hz * 5 / 2 && phase < hz * 3)) {
+        out = Input::clamped(0, turn >= 0.0 ? Input::kMaxSteer : -Input::kMaxSteer, 1);
+    } else {
+        out = Input::clamped(Input::kMaxThrottle, static_cast<int>(std::lround(turn * 2.0 * Input::kMaxSteer)), 0);
+    }
+    return true;
+}
+
+// `x` rounded up or down to a whole step, with a deterministic dither from
+// the tick, so that the mean over a few ticks is `x`: fine steering through
+// the coarse input steps.
+int dithered(double x, std::uint32_t tick) {
+    const double dither = static_cast<double>((tick * 5u) % 8u) / 8.0 + 1.0 / 16.0;
+    return static_cast<int>(std::floor(x + dither));
 }
 
 }  // namespace
@@ -53,36 +132,31 @@ Input drive(const Scene& sc, const WorldState& state, int slot, const DriverSkil
     const CarState& car = state.cars[static_cast<std::size_t>(slot)];
     const auto& gates = sc.track.checkpoints;
     if (!car.active || car.finished || gates.empty()) return Input::clamped(0, 0, 1);
-    if (!touches_track(sc, car.position)) return Input::clamped(Input::kMaxThrottle, 0, 0);  // airborne
+    const Route route{gates, static_cast<std::int32_t>(gates.size())};
 
     const Vec3 fwd = car.forward();
     const Vec3 up = car.up();
     const Vec3 right = fwd.cross(up);
-    const auto k = static_cast<std::int32_t>(gates.size());
-    const Checkpoint& g = gates[static_cast<std::size_t>(car.next_checkpoint)];
-    const Checkpoint& g2 = gates[static_cast<std::size_t>((car.next_checkpoint + 1) % k)];
-
-    // Aim at the next gate; close to it, start turning for the one after.
-    Vec3 to_gate = in_plane(g.center - car.position, up);
-    const double dist = to_gate.norm();
-    Vec3 aim = to_gate;
-    if (dist < skill.lookahead_m) {
-        const double w = 1.0 - dist / skill.lookahead_m;
-        aim = to_gate * (1.0 - w) + in_plane(g2.center - car.position, up) * w;
-    }
-    const Vec3 d = normalized_or(aim, fwd);
-    const double lateral = d.dot(right);
-    const double ahead = d.dot(fwd);
-    const double error = ahead > 0.0 ? lateral : (lateral >= 0.0 ? 1.5 : -1.5);
-    const int steer = static_cast<int>(std::lround(skill.steer_gain * error * Input::kMaxSteer));
-
     const double speed = in_plane(car.velocity, up).norm();
-    const double limit = speed_limit(sc, car, up, skill);
+    const double ahead_m = std::clamp(speed * 0.5, 10.0, skill.lookahead_m);
+    const Vec3 aim = pursuit_point(route, car, up, ahead_m);
+
+    const Vec3 d = normalized_or(in_plane(aim - car.position, up), fwd);
+    // Heading error: about the angle while ahead, beyond a right angle when behind.
+    const double lateral = d.dot(right);
+    const double error = d.dot(fwd) > 0.0 ? lateral : (lateral >= 0.0 ? 2.0 - lateral : -2.0 - lateral);
+    Input out;
+    if (unstick(sc, car, error, speed, out)) return out;
+    const int steer = dithered(skill.steer_gain * error * Input::kMaxSteer, state.tick);
+    // In the air thrust does nothing: lift off, keep the nose on the aim for the landing.
+    if (!touches_track(sc, car.position)) return Input::clamped(0, steer, 0);
+
+    const double limit = speed_limit(sc, route, car, up, skill);
     int throttle = Input::kMaxThrottle;
     int brake = 0;
     if (speed > limit) {
         throttle = 0;
-        brake = speed > limit * 1.05 ? 1 : 0;
+        brake = speed > limit * 1.03 ? 1 : 0;
     }
     // Sliding sideways: ease off so the grip comes back.
     if (std::abs(car.velocity.dot(right)) > 8.0) throttle = std::min(throttle, Input::kMaxThrottle / 2);

@@ -1,6 +1,10 @@
-// A driving AI: steers through the gates in order, brakes for corners.
-// Deterministic and stateless (a function of the scene and the car), so an
-// offline race with AI cars reproduces bit for bit.
+// A driving AI: follows the gates in order (pure pursuit along the line
+// through their centres), brakes for the corners within its braking
+// distance, lifts off in the air, and turns on the spot when it has made no
+// progress for a while. Deterministic and stateless: a function of the scene
+// and the world (its only memory is the car's no-progress counter, part of
+// the state), so an offline race reproduces bit for bit and a bot driving a
+// predicted or a snapshot world needs nothing else.
 //
 // It relies on one property of a valid track: the straight line between the
 // centres of consecutive gates is drivable (no barrier across it). The
@@ -15,7 +19,7 @@ struct DriverSkill {
     /// Lateral acceleration the AI plans corners for (unit: m/s^2); below
     /// the car's grip so it does not drift.
     double corner_mps2 = 30.0;
-    /// Distance at which it starts aiming at the gate after next (unit: m).
+    /// Longest distance along the route to the point it steers at (unit: m).
     double lookahead_m = 35.0;
     /// Speed to pass a gate that points upwards, such as the top of the
     /// wall (unit: m/s).
