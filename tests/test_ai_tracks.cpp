@@ -1,10 +1,13 @@
-// The driving AI completes laps of `stadium` (wall included) and of tracks
-// imported from OBJ files, including shapes it was not tuned on.
+// The driving AI completes laps of `stadium` (wall included), of tracks
+// imported from OBJ files, including shapes it was not tuned on, and of a
+// real level loaded through its manifest (docs/tracks/zdm2.track.json).
 #include "jetrace/builtin_tracks.hpp"
 #include "jetrace/offline_race.hpp"
 #include "jetrace/track_io.hpp"
 
 #include <gtest/gtest.h>
+
+#include <string>
 
 namespace {
 
@@ -55,4 +58,14 @@ TEST(AiTracks, EveryCarFinishesAnImportedTrackOfAnotherShape) {
     p.finish_line_m = 280;
     p.spawn_slots = 8;
     EXPECT_EQ(finishers(through_obj(jetrace::make_oval(p)), 4, 1, 240), 4);
+}
+
+TEST(AiTracks, SevenOfEightFinishALapOfZdm2) {
+    // A real level: gates every 15 m along a route with right-angle corners,
+    // the start line at one of them (half the grid starts beside its plane).
+    jetrace::Track t;
+    std::string error;
+    ASSERT_TRUE(jetrace::load_track(std::string(JETRACE_SOURCE_DIR) + "/docs/tracks/zdm2.track.json", t, error))
+        << error;
+    EXPECT_GE(finishers(std::move(t), 8, 1, 120), 7);
 }

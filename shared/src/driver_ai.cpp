@@ -51,17 +51,29 @@ Vec3 route_point(const Route& r, std::int32_t next, const Vec3& p, const Vec3& u
     return from;
 }
 
+// Distance before a gate of the point a car lines up at when it cannot
+// drive through the gate from where it is (unit: m).
+constexpr double kApproach_m = 15.0;
+// Speed to drive to that point at: slow enough to turn there (unit: m/s).
+constexpr double kApproachSpeed_mps = 15.0;
+
+// True if the car at `p` cannot drive straight through gate `g`: it is past
+// the gate's plane without having crossed it inside (a start beside a gate
+// at a corner, an overshoot), or beside the gate, nearly in its plane.
+bool needs_approach(const Checkpoint& g, const Vec3& p) {
+    const double past = (p - g.center).dot(g.normal);
+    const double side = std::abs((p - g.center).dot(g.across));
+    if (side < g.half_width_m * 0.8) return past > 0.0;
+    return past > -(side - g.half_width_m * 0.5);
+}
+
 // Where to steer: the route point ahead, unless the straight line to it
 // would miss the next gate (then that gate's centre).
 Vec3 pursuit_point(const Route& r, const CarState& car, const Vec3& up, double ahead) {
     const Checkpoint& g = r.at(car.next_checkpoint);
     const Vec3 p = car.position;
     const double to_plane = (g.center - p).dot(g.normal);
-    // Already past the gate's plane without crossing it (a start beside a
-    // gate at a corner, an overshoot): go round to a point before it first.
-    if (to_plane < 0.0 && std::abs((p - g.center).dot(g.across)) < g.half_width_m + 10.0) {
-        return g.center - g.normal * 15.0;
-    }
+    if (needs_approach(g, p)) return g.center - g.normal * kApproach_m;
     const Vec3 x = route_point(r, car.next_checkpoint, p, up, ahead);
     const double along = (x - p).dot(g.normal);
     if (to_plane <= 0.0 || along <= to_plane) return x;  // the aim is before the gate
@@ -151,7 +163,8 @@ Input drive(const Scene& sc, const WorldState& state, int slot, const DriverSkil
     // In the air thrust does nothing: lift off, keep the nose on the aim for the landing.
     if (!touches_track(sc, car.position)) return Input::clamped(0, steer, 0);
 
-    const double limit = speed_limit(sc, route, car, up, skill);
+    double limit = speed_limit(sc, route, car, up, skill);
+    if (needs_approach(route.at(car.next_checkpoint), car.position)) limit = std::min(limit, kApproachSpeed_mps);
     int throttle = Input::kMaxThrottle;
     int brake = 0;
     if (speed > limit) {
