@@ -67,19 +67,20 @@ bool needs_approach(const Checkpoint& g, const Vec3& p) {
     return past > -(side - g.half_width_m * 0.5);
 }
 
-// Where to steer: the route point ahead, unless the straight line to it
-// would miss the next gate (then that gate's centre).
-Vec3 pursuit_point(const Route& r, const CarState& car, const Vec3& up, double ahead) {
+// Where to steer: the route point ahead, moved sideways by `shift`, unless
+// the straight line to it would miss the next gate (then that gate's
+// centre, moved the same).
+Vec3 pursuit_point(const Route& r, const CarState& car, const Vec3& up, double ahead, const Vec3& shift) {
     const Checkpoint& g = r.at(car.next_checkpoint);
     const Vec3 p = car.position;
     const double to_plane = (g.center - p).dot(g.normal);
     if (needs_approach(g, p)) return g.center - g.normal * kApproach_m;
-    const Vec3 x = route_point(r, car.next_checkpoint, p, up, ahead);
+    const Vec3 x = route_point(r, car.next_checkpoint, p, up, ahead) + shift;
     const double along = (x - p).dot(g.normal);
     if (to_plane <= 0.0 || along <= to_plane) return x;  // the aim is before the gate
     const Vec3 cross = p + (x - p) * (to_plane / along);
     if (std::abs((cross - g.center).dot(g.across)) <= g.half_width_m * 0.6) return x;
-    return g.center;
+    return g.center + shift;
 }
 
 // Turn at gate `i` (chord between the unit directions of the legs in and
@@ -90,6 +91,9 @@ void corner_at(const Route& r, std::int32_t i, const Vec3& up, double& turn, dou
     turn = (normalized_or(in, up) - normalized_or(out, up)).norm();
     span = 0.5 * (in.norm() + out.norm());
 }
+
+// Fraction of the full-lock yaw rate the AI plans its turns for.
+constexpr double kYawMargin = 0.8;
 
 // Highest speed at which the car can still slow down for every corner
 // within its braking distance (unit: m/s).
@@ -104,7 +108,11 @@ double speed_limit(const Scene& sc, const Route& r, const CarState& car, const V
         double turn = 0.0, span = 0.0;
         corner_at(r, i, up, turn, span);
         double corner_speed = 1e9;
-        if (turn > 1e-3) corner_speed = std::sqrt(skill.corner_mps2 * span / turn);
+        if (turn > 1e-3) {
+            // Within the grip, and within what the yaw rate can follow.
+            const double radius = span / turn;
+            corner_speed = std::min(std::sqrt(skill.corner_mps2 * radius), kYawMargin * sc.physics.steer_rate_radps * radius);
+        }
         // A gate passed climbing (it points up, like the top of the wall):
         // arrive slowly, or the car flies far above it.
         if (r.at(i).normal.y() > 0.5) corner_speed = std::min(corner_speed, skill.climb_top_mps);
@@ -138,6 +146,35 @@ int dithered(double x, std::uint32_t tick) {
     return static_cast<int>(std::floor(x + dither));
 }
 
+// Where to cross gate `g`, across it from its centre (unit: m): the centre
+// unless finished cars (held with the brake where they crossed the line)
+// stand in the corridor through it; then the clear place nearest the centre.
+double crossing_offset(const Scene& sc, const WorldState& state, const Checkpoint& g) {
+    const double room = 2.0 * sc.physics.car_radius_m + 1.0;
+    constexpr int kSteps = 8;
+    double best = 0.0;
+    double best_clear = -1.0;
+    for (int k = 0; k <= 2 * kSteps; ++k) {
+        // Centre first, then alternately right and left, farther out.
+        const int step = (k + 1) / 2;
+        const double off = (k % 2 == 0 ? 1.0 : -1.0) * g.half_width_m * 0.8 * step / kSteps;
+        double clear = 1e9;
+        for (const CarState& o : state.cars) {
+            if (!o.active || !o.finished) continue;
+            const Vec3 rel = o.position - g.center;
+            const double along = rel.dot(g.normal);
+            if (along < -room || along > 3.0 * room || std::abs(rel.dot(g.up)) > g.half_height_m) continue;
+            clear = std::min(clear, std::abs(rel.dot(g.across) - off));
+        }
+        if (clear >= room) return off;
+        if (clear > best_clear) {
+            best_clear = clear;
+            best = off;
+        }
+    }
+    return best;
+}
+
 }  // namespace
 
 Input drive(const Scene& sc, const WorldState& state, int slot, const DriverSkill& skill) {
@@ -150,21 +187,36 @@ Input drive(const Scene& sc, const WorldState& state, int slot, const DriverSkil
     const Vec3 up = car.up();
     const Vec3 right = fwd.cross(up);
     const double speed = in_plane(car.velocity, up).norm();
-    const double ahead_m = std::clamp(speed * 0.5, 10.0, skill.lookahead_m);
-    const Vec3 aim = pursuit_point(route, car, up, ahead_m);
+    // Steer at a point at least as far along the route as the next gate: a
+    // long leg is driven along, not squeezed onto its centre line.
+    const Checkpoint& next = route.at(car.next_checkpoint);
+    const double to_gate = in_plane(next.center - car.position, up).norm();
+    const double ahead_m = std::max(std::clamp(speed * 0.5, 10.0, skill.lookahead_m), to_gate);
+    const Vec3 aim = pursuit_point(route, car, up, ahead_m, next.across * crossing_offset(sc, state, next));
 
     const Vec3 d = normalized_or(in_plane(aim - car.position, up), fwd);
     // Heading error: about the angle while ahead, beyond a right angle when behind.
     const double lateral = d.dot(right);
     const double error = d.dot(fwd) > 0.0 ? lateral : (lateral >= 0.0 ? 2.0 - lateral : -2.0 - lateral);
+    // On a wall or a steep bank slowing down means sliding back: there the
+    // corners and climbs ahead are the only limit.
+    const bool steep = up.y() < 0.7;
     Input out;
-    if (unstick(sc, car, error, speed, out)) return out;
+    if (!steep && unstick(sc, car, error, speed, out)) return out;
     const int steer = dithered(skill.steer_gain * error * Input::kMaxSteer, state.tick);
     // In the air thrust does nothing: lift off, keep the nose on the aim for the landing.
     if (!touches_track(sc, car.position)) return Input::clamped(0, steer, 0);
 
     double limit = speed_limit(sc, route, car, up, skill);
-    if (needs_approach(route.at(car.next_checkpoint), car.position)) limit = std::min(limit, kApproachSpeed_mps);
+    if (!steep) {
+        // Slow enough to reach the aim on the arc through it at the yaw rate
+        // the steering gives (radius: distance / (2 sin(heading error))).
+        const double arc_sin = d.dot(fwd) > 0.0 ? std::abs(lateral) : 1.0;
+        const double reach = in_plane(aim - car.position, up).norm();
+        const double yaw_rate = kYawMargin * sc.physics.steer_rate_radps;
+        if (arc_sin > 1e-3) limit = std::min(limit, std::max(6.0, yaw_rate * reach / (2.0 * arc_sin)));
+        if (needs_approach(next, car.position)) limit = std::min(limit, kApproachSpeed_mps);
+    }
     int throttle = Input::kMaxThrottle;
     int brake = 0;
     if (speed > limit) {
