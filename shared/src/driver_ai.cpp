@@ -138,14 +138,6 @@ bool unstick(const Scene& sc, const CarState& car, double error, double speed, I
     return true;
 }
 
-// `x` rounded up or down to a whole step, with a deterministic dither from
-// the tick, so that the mean over a few ticks is `x`: fine steering through
-// the coarse input steps.
-int dithered(double x, std::uint32_t tick) {
-    const double dither = static_cast<double>((tick * 5u) % 8u) / 8.0 + 1.0 / 16.0;
-    return static_cast<int>(std::floor(x + dither));
-}
-
 // Where to cross gate `g`, across it from its centre (unit: m): the centre
 // unless finished cars (held with the brake where they crossed the line)
 // stand in the corridor through it; then the clear place nearest the centre.
@@ -203,7 +195,9 @@ Input drive(const Scene& sc, const WorldState& state, int slot, const DriverSkil
     const bool steep = up.y() < 0.7;
     Input out;
     if (!steep && unstick(sc, car, error, speed, out)) return out;
-    const int steer = dithered(skill.steer_gain * error * Input::kMaxSteer, state.tick);
+    // Inputs that change rarely are what a client predicting other cars
+    // guesses right (it repeats their last input): no dithering.
+    const int steer = static_cast<int>(std::lround(skill.steer_gain * error * Input::kMaxSteer));
     // In the air thrust does nothing: lift off, keep the nose on the aim for the landing.
     if (!touches_track(sc, car.position)) return Input::clamped(0, steer, 0);
 
