@@ -27,7 +27,7 @@ json roster_json(const LiveSession& s) {
 /// Every active car of the client's world where the client draws it.
 json cars_json(const LiveSession& s) {
     const client::RaceClient& c = s.client();
-    const WorldState& predicted = c.predicted();
+    const WorldState& predicted = s.world();
     const WorldState& server = c.authoritative();
     json out = json::array();
     for (std::size_t i = 0; i < predicted.cars.size(); ++i) {
@@ -45,7 +45,7 @@ json cars_json(const LiveSession& s) {
 
 json standings_json(const LiveSession& s) {
     const client::RaceClient& c = s.client();
-    const WorldState& w = c.predicted();
+    const WorldState& w = s.world();
     const int rate = c.scene().physics.tick_rate_hz;
     const auto order = standings(c.scene().track, w.cars, w.start_tick, rate);
     const int leader = order.empty() ? -1 : order.front().slot;
@@ -84,8 +84,8 @@ std::string live_hello_json(const LiveSession& s) {
                     {"tick_rate_hz", c.scene().physics.tick_rate_hz},
                     {"first_tick", nullptr},
                     {"last_tick", nullptr},
-                    {"start_tick", c.predicted().start_tick},
-                    {"laps", c.predicted().laps},
+                    {"start_tick", s.world().start_tick},
+                    {"laps", s.world().laps},
                     {"end_reason", nullptr},
                     {"cars", roster_json(s)},
                     {"ghosts", json::array()}};
@@ -94,7 +94,7 @@ std::string live_hello_json(const LiveSession& s) {
 
 std::string live_frame_json(const LiveSession& s) {
     const client::RaceClient& c = s.client();
-    const WorldState& w = c.predicted();
+    const WorldState& w = s.world();
     const int rate = c.scene().physics.tick_rate_hz;
     const double race_s = (static_cast<double>(w.tick) - w.start_tick) / rate;
     const bool counting = c.phase() == proto::RacePhase::countdown && w.tick < w.start_tick;

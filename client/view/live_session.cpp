@@ -70,7 +70,8 @@ bool LiveSession::wait_welcome(std::string& error) {
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
     if (client_->state() == ClientState::closed) {
-        error = "the server closed the connection: " + client_->close_reason() + " (code " +
+        error = "cannot join the race at " + options_.host + ":" + std::to_string(options_.port) + ": " +
+                client_->close_reason() + " (code " +
                 std::to_string(client_->close_code()) + ")";
         return false;
     }

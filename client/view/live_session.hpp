@@ -52,6 +52,9 @@ public:
     void release_keys(std::uint64_t page);
 
     bool driving() const { return options_.drive; }
+    /// The world the page is shown (cars, laps, gates, start tick): the
+    /// client's prediction of its own race.
+    const WorldState& world() const { return client_->predicted(); }
     const std::string& driver() const { return options_.client.name; }
     const client::RaceClient& client() const { return *client_; }
     const RaceTiming& timing() const { return timing_; }
