@@ -38,6 +38,23 @@ function keysFor(car, gates) {
   return want;
 }
 
+async function distinctColours(page, png) {
+  return page.evaluate(async (b64) => {
+    const img = new Image();
+    img.src = 'data:image/png;base64,' + b64;
+    await img.decode();
+    const c = document.createElement('canvas');
+    c.width = img.width;
+    c.height = img.height;
+    const g = c.getContext('2d');
+    g.drawImage(img, 0, 0);
+    const d = g.getImageData(0, 0, c.width, c.height).data;
+    const seen = new Set();
+    for (let i = 0; i < d.length; i += 4) seen.add((d[i] << 16) | (d[i + 1] << 8) | d[i + 2]);
+    return seen.size;
+  }, Buffer.from(png).toString('base64'));
+}
+
 const browser = await puppeteer.launch({
   executablePath: '/usr/bin/chromium',
   headless: true,
@@ -51,13 +68,27 @@ try {
   page.on('pageerror', (e) => console.log('page error: ' + e.message));
   await page.goto(url, { waitUntil: 'load' });
   await page.waitForFunction(() => window.jetrace && window.jetrace.state().trackLoaded &&
-    window.jetrace.state().ownSlot !== null && window.jetrace.state().cars.length > 0, guard);
+    window.jetrace.state().frames > 0, guard);
   const gates = await page.evaluate(() => window.jetrace.gates());
   let s = await state(page);
-  check(s.mode === 'drive' && own(s) !== undefined, `drive mode, the own car (slot ${s.ownSlot}) shown`);
+  check(s.mode === 'drive' && s.ownSlot === 0, `drive mode, the own car's slot ${s.ownSlot}`);
+  // The race starts by the server's lobby timeout, usually after the page
+  // loaded: then the page shows the lobby, the countdown's seconds, racing.
+  const phases = [s.phase];
+  let counted = 0;
+  for (let t0 = Date.now(); s.phase !== 'racing' && Date.now() - t0 < guard.timeout;) {
+    await new Promise((r) => setTimeout(r, 50));
+    s = await state(page);
+    if (phases[phases.length - 1] !== s.phase) phases.push(s.phase);
+    if (s.phase === 'countdown' && s.countdown > 0) counted = Math.max(counted, s.countdown);
+  }
+  console.log(`phases shown: ${phases.join(' -> ')}; countdown up to ${counted} s`);
+  check(s.phase === 'racing', 'the race started');
+  check(own(s) !== undefined, 'the own car is shown');
   check(s.standings.some((r) => r.name === 'human'), 'the standings name the driver');
-  await page.waitForFunction(() => window.jetrace.state().phase === 'racing', guard);
-  console.log('racing');
+  if (phases[0] === 'lobby') {
+    check(phases.join() === 'lobby,countdown,racing' && counted > 0.5, 'lobby, then the countdown\'s seconds, then racing');
+  }
 
   const held = new Set();
   let top = 0, steps = 0;
@@ -77,8 +108,9 @@ try {
   check(top > 20, `the car accelerated with the up key (top speed ${top} m/s)`);
   check(mine && mine.finished, `the human car finished the lap (${mine ? mine.finish_s : '?'} s, ${steps} steering steps)`);
   check(s.keys && !s.keys.up && !s.keys.left && !s.keys.right && !s.keys.brake, 'the keys are released');
-  const png = await page.screenshot({ path: shotPath });
-  check(png.length > 10000, `a screenshot of the race (${png.length} bytes)`);
+  const png = await page.screenshot({ path: shotPath, clip: { x: 320, y: 120, width: 640, height: 440 } });
+  const colours = await distinctColours(page, png);
+  check(colours > 50, `the 3D view is not blank (${colours} distinct colours)`);
 
   // A malformed keys message closes that page's socket.
   await page.evaluate(() => window.jetrace.sendRaw('{"type":"keys","up":1,"left":false,"right":false,"brake":false}'));

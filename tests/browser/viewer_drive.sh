@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # jetrace-view drive mode in a real browser (headless Chromium driven by
 # puppeteer-core, viewer_drive.mjs): jetrace-server races one lap of ring
-# (1 s countdown); jetrace-view --connect --drive joins it as the human
-# player; the test presses keys in the page, steering toward the next gate
+# (started by the lobby timeout 15 s after the first player, then a 2 s
+# countdown); jetrace-view --connect --drive joins it as the human player; the test presses keys in the page, steering toward the next gate
 # it reads from the page's state hook, until the car finishes. The server's
 # results must list the human as finished, and its replay must verify.
 # Usage: viewer_drive.sh SERVER VIEW SIM SOURCE_DIR
@@ -19,8 +19,8 @@ cleanup() {
 }
 trap cleanup EXIT
 
-"$server" --bind 127.0.0.1 --port 0 --track ring --laps 1 --min-players 1 --max-players 2 --races 1 \
-  --countdown 1 --results "$out/results.json" --record "$out/race.jtr" >"$out/server.log" 2>&1 &
+"$server" --bind 127.0.0.1 --port 0 --track ring --laps 1 --min-players 2 --max-players 2 --races 1 \
+  --lobby-timeout 15 --lobby-timeout-action start --countdown 2 --results "$out/results.json" --record "$out/race.jtr" >"$out/server.log" 2>&1 &
 spid=$!
 port="$(server_port "$out/server.log")"
 
