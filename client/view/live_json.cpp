@@ -20,7 +20,9 @@ std::string name_of(const LiveSession& s, int slot) {
 
 json roster_json(const LiveSession& s) {
     json out = json::array();
-    for (const proto::PlayerInfo& p : s.client().players()) out.push_back({{"slot", p.slot}, {"name", name_of(s, p.slot)}});
+    for (const proto::PlayerInfo& p : s.client().players()) {
+        out.push_back({{"slot", p.slot}, {"name", name_of(s, p.slot)}});
+    }
     return out;
 }
 

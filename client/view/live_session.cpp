@@ -71,8 +71,7 @@ bool LiveSession::wait_welcome(std::string& error) {
     }
     if (client_->state() == ClientState::closed) {
         error = "cannot join the race at " + options_.host + ":" + std::to_string(options_.port) + ": " +
-                client_->close_reason() + " (code " +
-                std::to_string(client_->close_code()) + ")";
+                client_->close_reason() + " (code " + std::to_string(client_->close_code()) + ")";
         return false;
     }
     spdlog::info("joined {}:{} as {} (slot {}), track {}", options_.host, options_.port, options_.client.name,

@@ -162,7 +162,8 @@ int live(const Args& a, jetrace::view::ViewContext& ctx) {
     jetrace::view::LiveOptions o;
     std::string error;
     if (!jetrace::view::parse_http_address(a.connect, o.host, o.port, error) || o.port == 0) {
-        std::fprintf(stderr, "jetrace-view: --connect: %s\n", error.empty() ? "port 0 is not a server's port" : error.c_str());
+        if (error.empty()) error = "port 0 is not a server's port";
+        std::fprintf(stderr, "jetrace-view: --connect: %s\n", error.c_str());
         return 2;
     }
     o.track_spec = a.track;
