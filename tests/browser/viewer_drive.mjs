@@ -71,7 +71,7 @@ try {
     window.jetrace.state().frames > 0, guard);
   const gates = await page.evaluate(() => window.jetrace.gates());
   let s = await state(page);
-  check(s.mode === 'drive' && s.ownSlot === 0, `drive mode, the own car's slot ${s.ownSlot}`);
+  check(s.mode === 'drive' && s.ownSlot >= 0, `drive mode, the own car's slot ${s.ownSlot}`);
   // The race starts by the server's lobby timeout, usually after the page
   // loaded: then the page shows the lobby, the countdown's seconds, racing.
   const phases = [s.phase];
@@ -86,18 +86,24 @@ try {
   check(s.phase === 'racing', 'the race started');
   check(own(s) !== undefined, 'the own car is shown');
   check(s.standings.some((r) => r.name === 'human'), 'the standings name the driver');
+  check(s.standings.some((r) => r.name === 'robot0'), 'and the bot');
+  check(s.cars.length === 2, 'both cars are shown');
   if (phases[0] === 'lobby') {
     check(phases.join() === 'lobby,countdown,racing' && counted > 0.5, 'lobby, then the countdown\'s seconds, then racing');
   }
 
   const held = new Set();
-  let top = 0, steps = 0;
+  const botAt = (x) => x.cars.find((c) => c.slot !== x.ownSlot);
+  const botStart = botAt(s);
+  let top = 0, steps = 0, botMoved = false;
   const start = Date.now();
   while (Date.now() - start < 120000) {
     s = await state(page);
     const car = own(s);
     if (!car) continue;
     top = Math.max(top, car.speed);
+    const b = botAt(s);
+    if (b && botStart && Math.hypot(b.x - botStart.x, b.z - botStart.z) > 50) botMoved = true;
     if (s.standings.find((r) => r.slot === s.ownSlot)?.finished) break;
     await hold(page, held, keysFor(car, gates));
     if (++steps % 40 === 0) console.log(`tick ${s.tick} lap ${car.lap} gate ${car.gate} speed ${car.speed}`);
@@ -108,6 +114,7 @@ try {
   check(top > 20, `the car accelerated with the up key (top speed ${top} m/s)`);
   check(mine && mine.finished, `the human car finished the lap (${mine ? mine.finish_s : '?'} s, ${steps} steering steps)`);
   check(s.keys && !s.keys.up && !s.keys.left && !s.keys.right && !s.keys.brake, 'the keys are released');
+  check(botMoved, `the bot's car moved on the page (${botMoved ? 'yes' : 'no'})`);
   const png = await page.screenshot({ path: shotPath, clip: { x: 320, y: 120, width: 640, height: 440 } });
   const colours = await distinctColours(page, png);
   check(colours > 50, `the 3D view is not blank (${colours} distinct colours)`);

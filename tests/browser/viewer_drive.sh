@@ -5,24 +5,28 @@
 # countdown); jetrace-view --connect --drive joins it as the human player; the test presses keys in the page, steering toward the next gate
 # it reads from the page's state hook, until the car finishes. The server's
 # results must list the human as finished, and its replay must verify.
-# Usage: viewer_drive.sh SERVER VIEW SIM SOURCE_DIR
+# A jetrace-bot races too: the page shows its car (interpolated) and its
+# name in the standings.
+# Usage: viewer_drive.sh SERVER VIEW SIM BOT SOURCE_DIR
 set -euo pipefail
-server="$1" view="$2" sim="$3" src="$4"
+server="$1" view="$2" sim="$3" bot="$4" src="$5"
 . "$src/tools/server_port.sh"
 [ -d "$src/node_modules/puppeteer-core" ] || { echo "no puppeteer-core in $src/node_modules: run npm ci there (tools/setup.sh does)"; exit 1; }
 [ -x /usr/bin/chromium ] || { echo "no /usr/bin/chromium: apt-get install chromium (tools/setup.sh does)"; exit 1; }
 out="$(mktemp -d)"
-spid="" vpid=""
+spid="" vpid="" bpid=""
 cleanup() {
-  for p in $vpid $spid; do kill "$p" 2>/dev/null || true; wait "$p" 2>/dev/null || true; done
+  for p in $vpid $bpid $spid; do kill "$p" 2>/dev/null || true; wait "$p" 2>/dev/null || true; done
   rm -rf "$out"
 }
 trap cleanup EXIT
 
-"$server" --bind 127.0.0.1 --port 0 --track ring --laps 1 --min-players 2 --max-players 2 --races 1 \
-  --lobby-timeout 15 --lobby-timeout-action start --countdown 2 --results "$out/results.json" --record "$out/race.jtr" >"$out/server.log" 2>&1 &
+"$server" --bind 127.0.0.1 --port 0 --track ring --laps 1 --min-players 3 --max-players 3 --races 1 \
+  --lobby-timeout 15 --lobby-timeout-action start --countdown 2 --finish-window 120 --results "$out/results.json" --record "$out/race.jtr" >"$out/server.log" 2>&1 &
 spid=$!
 port="$(server_port "$out/server.log")"
+"$bot" --connect "127.0.0.1:$port" --count 1 --name robot --max-seconds 200 >"$out/bot.json" 2>&1 &
+bpid=$!
 
 mkfifo "$out/stdout"
 "$view" --connect "127.0.0.1:$port" --drive human --http 127.0.0.1:0 >"$out/stdout" 2>"$out/view.log" &
@@ -45,6 +49,7 @@ cat "$out/server.log"
 python3 - "$out/results.json" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
+assert len(d["standings"]) == 2, "two players: %r" % d
 human = [s for s in d["standings"] if s["name"] == "human"]
 assert human, "no standing of the human player: %r" % d
 assert human[0]["finished"], "the human player did not finish: %r" % human[0]
