@@ -12,6 +12,7 @@
 
 #include "jetrace/cli/finite.hpp"
 #include "jetrace/cli/logging.hpp"
+#include "jetrace/proto/messages.hpp"
 #include "jetrace/replay/scene_for.hpp"
 #include "jetrace/track_io.hpp"
 
@@ -85,7 +86,10 @@ void add_options(CLI::App& app, Args& a) {
     connect->excludes(replay);
     app.add_option("--drive", a.drive, "with --connect: drive a car named NAME with the page's keys")
         ->needs(connect)
-        ->check([](const std::string& n) { return n.empty() || n.size() > 32 ? "a name of 1 to 32 bytes" : ""; });
+        ->check([](const std::string& n) -> std::string {
+            const bool ok = !n.empty() && n.size() <= jetrace::proto::kMaxNameBytes && jetrace::proto::valid_text(n);
+            return ok ? "" : "a name of 1 to 32 bytes of UTF-8 without control characters";
+        });
     app.add_option("--ghost", a.ghosts, "other replays of the same track, drawn as translucent cars at the same race time")
         ->check(CLI::ExistingFile)
         ->needs(replay);
