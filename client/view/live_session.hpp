@@ -46,6 +46,9 @@ public:
     /// Handles the network and runs the ticks due by now.
     void update();
 
+    /// Says goodbye to the server (its car is freed at once).
+    void leave(const std::string& reason) { client_->leave(reason); }
+
     /// Keys from page `page` (the newest keys from any page count).
     void set_keys(std::uint64_t page, const KeysMessage& k);
     /// Page `page` closed: its keys are released.

@@ -185,7 +185,9 @@ int live(const Args& a, jetrace::view::ViewContext& ctx) {
     const auto mesh = jetrace::view::track_mesh_bytes(session.client().scene().track);
     ctx.track_bin.assign(mesh.begin(), mesh.end());
     ctx.live = &session;
-    return serve(ctx);
+    const int rc = serve(ctx);
+    session.leave("jetrace-view stopped");
+    return rc;
 }
 
 }  // namespace
