@@ -25,6 +25,10 @@ struct RaceOutcome {
     /// bot 1's newest authoritative position, while racing (unit: m).
     double max_interpolation_gap_m = 0;
     int interpolation_checks = 0;
+    /// Most players bot 0's roster (RaceClient::players()) listed at once,
+    /// and whether every entry had a name.
+    std::size_t max_roster = 0;
+    bool roster_named = true;
 };
 
 RaceOutcome race(int bots, const jetrace::net::Conditions* conditions, int laps, int races = 1) {
@@ -57,6 +61,9 @@ RaceOutcome race(int bots, const jetrace::net::Conditions* conditions, int laps,
                 }
             }
             if (server_hashes.size() > 4000) server_hashes.erase(server_hashes.begin());
+            const auto& roster = live.bot(0).client->players();
+            out.max_roster = std::max(out.max_roster, roster.size());
+            for (const auto& p : roster) out.roster_named = out.roster_named && !p.name.empty();
             if (server.phase() == jetrace::proto::RacePhase::racing && bots > 1) {
                 const auto& a = live.bot(0).client->authoritative();
                 if (a.cars.size() > 1 && a.cars[1].active && !a.cars[1].finished) {
@@ -105,6 +112,8 @@ TEST(Loopback, EightBotsNoLoss) {
         EXPECT_EQ(o.stats[i].corrections, 0u) << "bot " << i << " had to correct its prediction without any loss";
     }
     EXPECT_GT(o.hash_checks, 10);
+    EXPECT_EQ(o.max_roster, 8u) << "the RaceStatus roster lists every player";
+    EXPECT_TRUE(o.roster_named);
     // Drawn two snapshot intervals (33 ms) behind: a car at 70-100 m/s is a
     // few metres back, never tens.
     EXPECT_GT(o.interpolation_checks, 100);

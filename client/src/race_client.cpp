@@ -44,6 +44,7 @@ void RaceClient::on_message(const proto::Message& m) {
         link_.on_goodbye(*g);
     } else if (const auto* s = std::get_if<proto::RaceStatus>(&m)) {
         phase_ = s->phase;
+        players_ = s->players;
         for (const auto& p : s->players) {
             if (p.slot == slot_) spectating_ = p.spectating;
         }

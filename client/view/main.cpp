@@ -1,19 +1,24 @@
-// jetrace-view: plays recorded races in a browser. Loads a replay (and
-// ghost replays of the same track), re-simulating each with the shared
-// core, then serves the three.js page and streams the world to it over a
-// WebSocket (docs/VIEWER.md).
+// jetrace-view: plays recorded races in a browser, or drives a car in a
+// live one. Replay mode loads a replay (and ghost replays of the same
+// track), re-simulating each with the shared core; drive mode runs a
+// RaceClient against a jetrace-server, its car driven by the page's keys.
+// Either way it serves the three.js page and streams the world to it over
+// a WebSocket (docs/VIEWER.md).
 #include "http_server.hpp"
+#include "live_session.hpp"
 #include "page_messages.hpp"
 #include "view_context.hpp"
 #include "world_json.hpp"
 
 #include "jetrace/cli/finite.hpp"
 #include "jetrace/cli/logging.hpp"
+#include "jetrace/proto/messages.hpp"
 #include "jetrace/replay/scene_for.hpp"
 #include "jetrace/track_io.hpp"
 
 #include <CLI/CLI.hpp>
 #include <boost/asio/signal_set.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <spdlog/spdlog.h>
 
 #include <cstdio>
@@ -28,6 +33,8 @@ using jetrace::view::ReplayPlayer;
 
 struct Args {
     std::string replay;
+    std::string connect;
+    std::string drive;
     std::vector<std::string> ghosts;
     std::string track;
     std::string http = "127.0.0.1:8080";
@@ -73,23 +80,48 @@ bool load_all(const Args& a, jetrace::view::ViewContext& ctx) {
 void add_options(CLI::App& app, Args& a) {
     namespace v = jetrace::view;
     auto& s = a.settings;
-    app.add_option("--replay", a.replay, "the replay to play")->required()->check(CLI::ExistingFile);
+    auto* replay = app.add_option("--replay", a.replay, "the replay to play")->check(CLI::ExistingFile);
+    auto* connect = app.add_option("--connect", a.connect, "ADDR:PORT of a jetrace-server: a live race");
+    replay->excludes(connect);
+    connect->excludes(replay);
+    app.add_option("--drive", a.drive, "with --connect: drive a car named NAME with the page's keys")
+        ->needs(connect)
+        ->check([](const std::string& n) -> std::string {
+            const bool ok = !n.empty() && n.size() <= jetrace::proto::kMaxNameBytes && jetrace::proto::valid_text(n);
+            return ok ? "" : "a name of 1 to 32 bytes of UTF-8 without control characters";
+        });
     app.add_option("--ghost", a.ghosts, "other replays of the same track, drawn as translucent cars at the same race time")
-        ->check(CLI::ExistingFile);
-    app.add_option("--track", a.track, "the track file, when the replay's track is not built in (OBJ or manifest)");
+        ->check(CLI::ExistingFile)
+        ->needs(replay);
+    app.add_option("--track", a.track, "the track file, when the race's track is not built in (OBJ, glTF or manifest)");
     app.add_option("--http", a.http, "ADDR:PORT to serve the page on (port 0: any free port; the bound address is printed)");
     app.add_option("--frame-rate", s.frame_rate_hz, "frames per second sent to a playing page")
         ->check(CLI::Range(v::kMinFrameRateHz, v::kMaxFrameRateHz));
     app.add_option("--speed", s.speed, "playback speed a page starts at (times real time)")
-        ->check(jetrace::cli::finite() & CLI::Range(v::kMinSpeed, v::kMaxSpeed));
+        ->check(jetrace::cli::finite() & CLI::Range(v::kMinSpeed, v::kMaxSpeed))
+        ->needs(replay);
     app.add_option("--max-pages", s.max_pages, "pages (WebSockets) open at once; more are refused")
         ->check(CLI::Range(1, v::kMaxPages));
-    app.add_flag("--paused", s.paused, "pages start paused at the first tick (else they play at once)");
+    app.add_flag("--paused", s.paused, "pages start paused at the first tick (else they play at once)")->needs(replay);
     app.add_option("--web", s.web_dir, "the page's files")->check(CLI::ExistingDirectory);
     app.add_option("--node-modules", s.node_modules_dir, "the node_modules holding three.js (npm ci)")
         ->check(CLI::ExistingDirectory);
     jetrace::cli::add_log_level_option(app, a.log_level);
 }
+
+/// Runs the live session's client every millisecond (the bots' pace).
+struct LivePump {
+    boost::asio::steady_timer timer;
+    jetrace::view::LiveSession* live;
+    void arm() {
+        timer.expires_after(std::chrono::milliseconds(1));
+        timer.async_wait([this](const boost::system::error_code& ec) {
+            if (ec) return;
+            live->update();
+            arm();
+        });
+    }
+};
 
 int serve(jetrace::view::ViewContext& ctx) {
     boost::asio::io_context io;
@@ -112,8 +144,50 @@ int serve(jetrace::view::ViewContext& ctx) {
         io.stop();
     });
     server.start();
+    LivePump pump{boost::asio::steady_timer(io), ctx.live};
+    if (ctx.live) pump.arm();
     io.run();
     return 0;
+}
+
+/// "" if the options name one mode: --replay, or --connect with --drive.
+std::string mode_error(const Args& a) {
+    if (a.replay.empty() && a.connect.empty()) return "--replay FILE or --connect ADDR:PORT is required";
+    if (!a.connect.empty() && a.drive.empty()) {
+        return "--connect without --drive would watch the race as an observer, which this jetrace-view cannot do "
+               "yet: pass --drive NAME to race a car from the page";
+    }
+    return "";
+}
+
+/// Drive mode: joins the race, then serves pages (exit 2 for a bad
+/// address, 1 if the server cannot be reached or refuses).
+int live(const Args& a, jetrace::view::ViewContext& ctx) {
+    jetrace::view::LiveOptions o;
+    std::string error;
+    if (!jetrace::view::parse_http_address(a.connect, o.host, o.port, error) || o.port == 0) {
+        if (error.empty()) error = "port 0 is not a server's port";
+        std::fprintf(stderr, "jetrace-view: --connect: %s\n", error.c_str());
+        return 2;
+    }
+    o.track_spec = a.track;
+    o.client.name = a.drive;
+    o.drive = true;
+    jetrace::view::LiveSession session;
+    if (!session.load_tracks(o, error)) {
+        std::fprintf(stderr, "jetrace-view: --track: %s\n", error.c_str());
+        return 2;
+    }
+    if (!session.open(error) || !session.wait_welcome(error)) {
+        std::fprintf(stderr, "jetrace-view: %s\n", error.c_str());
+        return 1;
+    }
+    const auto mesh = jetrace::view::track_mesh_bytes(session.client().scene().track);
+    ctx.track_bin.assign(mesh.begin(), mesh.end());
+    ctx.live = &session;
+    const int rc = serve(ctx);
+    session.leave("jetrace-view stopped");
+    return rc;
 }
 
 }  // namespace
@@ -126,6 +200,10 @@ int main(int argc, char** argv) {
     add_options(app, a);
     CLI11_PARSE(app, argc, argv);
     jetrace::cli::log_to_stderr("view", a.log_level);
+    if (const std::string e = mode_error(a); !e.empty()) {
+        std::fprintf(stderr, "jetrace-view: %s\n", e.c_str());
+        return 2;
+    }
     std::string error;
     if (!jetrace::view::parse_http_address(a.http, a.settings.http_host, a.settings.http_port, error)) {
         std::fprintf(stderr, "jetrace-view: --http: %s\n", error.c_str());
@@ -137,6 +215,7 @@ int main(int argc, char** argv) {
     }
     jetrace::view::ViewContext ctx;
     ctx.settings = a.settings;
+    if (!a.connect.empty()) return live(a, ctx);
     if (!load_all(a, ctx)) return 2;
     return serve(ctx);
 }

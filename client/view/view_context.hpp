@@ -1,7 +1,9 @@
 // What every connection of one jetrace-view process shares: the loaded
-// replays (read-only), the settings, the track mesh bytes, page numbers.
+// replays (read-only) or the live session, the settings, the track mesh
+// bytes, page numbers.
 #pragma once
 
+#include "live_session.hpp"
 #include "replay_player.hpp"
 #include "view_settings.hpp"
 
@@ -16,7 +18,9 @@ struct ViewContext {
     ViewSettings settings;
     std::unique_ptr<ReplayPlayer> main;
     std::vector<std::unique_ptr<ReplayPlayer>> ghosts;
-    /// track_mesh_bytes() of the main replay's track, served as /track.bin.
+    /// Live and drive modes: the race client (main is null then).
+    LiveSession* live = nullptr;
+    /// track_mesh_bytes() of the main replay's (or the live race's) track, served as /track.bin.
     std::string track_bin;
     /// Number of the next page (WebSocket) to connect, for log lines.
     std::uint64_t next_page = 1;

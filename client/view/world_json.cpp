@@ -1,8 +1,8 @@
 #include "world_json.hpp"
 
-#include "jetrace/race.hpp"
+#include "json_parts.hpp"
 
-#include <nlohmann/json.hpp>
+#include "jetrace/race.hpp"
 
 #include <bit>
 #include <cmath>
@@ -11,31 +11,12 @@ namespace jetrace::view {
 
 namespace {
 
-using nlohmann::json;
-
-/// Names and paths are untrusted bytes (a replay's player names carry no
-/// encoding): invalid UTF-8 becomes U+FFFD instead of an exception.
-std::string text_of(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
-
-json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
-
-/// Directions and speeds need no more than 1e-4 for drawing: fewer bytes.
-double rounded(double v, double step) { return std::round(v / step) * step; }
-json unit(const Vec3& v) { return json::array({rounded(v.x(), 1e-4), rounded(v.y(), 1e-4), rounded(v.z(), 1e-4)}); }
+using namespace json_parts;
 
 std::string name_of(const ReplayPlayer& r, std::size_t slot) {
     const auto& names = r.header().names;
     if (slot < names.size() && !names[slot].empty()) return names[slot];
     return "car " + std::to_string(slot);
-}
-
-json gates_json(const Track& t) {
-    json out = json::array();
-    for (const Checkpoint& g : t.checkpoints) {
-        out.push_back({{"center", vec(g.center)}, {"normal", vec(g.normal)}, {"across", vec(g.across)},
-                       {"up", vec(g.up)}, {"half_width_m", g.half_width_m}, {"half_height_m", g.half_height_m}});
-    }
-    return out;
 }
 
 json roster_json(const ReplayPlayer& r) {
@@ -46,12 +27,6 @@ json roster_json(const ReplayPlayer& r) {
     return out;
 }
 
-json car_json(const CarState& c, std::size_t slot) {
-    return {{"slot", slot}, {"p", vec(c.position)}, {"f", unit(c.forward())}, {"u", unit(c.up())},
-            {"speed", rounded(c.velocity.norm(), 0.01)}, {"lap", c.lap}, {"gate", c.next_checkpoint},
-            {"finished", c.finished}};
-}
-
 json cars_json(const WorldState& s) {
     json out = json::array();
     for (std::size_t i = 0; i < s.cars.size(); ++i) {
@@ -59,8 +34,6 @@ json cars_json(const WorldState& s) {
     }
     return out;
 }
-
-json optional_s(const std::optional<double>& v) { return v ? json(rounded(*v, 0.001)) : json(nullptr); }
 
 json standings_json(const ReplayPlayer& r, const WorldState& s) {
     const int rate = r.scene().physics.tick_rate_hz;
@@ -103,8 +76,7 @@ std::string hello_json(const Playback& p) {
     const json j = {{"type", "hello"},
                     {"mode", "replay"},
                     {"file", r.path()},
-                    {"track", {{"name", t.name}, {"triangles", t.triangles.size()}, {"gates", gates_json(t)},
-                               {"bounds", {{"min", vec(t.bounds.min)}, {"max", vec(t.bounds.max)}}}}},
+                    {"track", track_json(t)},
                     {"car_radius_m", r.scene().physics.car_radius_m},
                     {"tick_rate_hz", r.scene().physics.tick_rate_hz},
                     {"first_tick", r.first_tick()},

@@ -1,5 +1,7 @@
 #include "ws_session.hpp"
 
+#include "drive_messages.hpp"
+#include "live_json.hpp"
 #include "page_messages.hpp"
 #include "world_json.hpp"
 
@@ -15,9 +17,11 @@ WsSession::WsSession(boost::asio::ip::tcp::socket&& socket, ViewContext& ctx)
     : ws_(std::move(socket)),
       timer_(ws_.get_executor()),
       ctx_(ctx),
-      id_(ctx.next_page++),
-      playback_(*ctx.main, ctx.ghost_players()) {
-    playback_.set_speed(ctx.settings.speed);
+      id_(ctx.next_page++) {
+    if (ctx.main) {
+        playback_.emplace(*ctx.main, ctx.ghost_players());
+        playback_->set_speed(ctx.settings.speed);
+    }
     ++ctx_.open_pages;
 }
 
@@ -34,9 +38,9 @@ void WsSession::on_accept(beast::error_code ec) {
     spdlog::info("page {}: connected", id_);
     opened_ = last_advance_ = Clock::now();
     ws_.text(true);
-    send(hello_json(playback_), false);
-    playback_.set_playing(!ctx_.settings.paused);
-    send(frame_json(playback_), true);
+    send(playback_ ? hello_json(*playback_) : live_hello_json(*ctx_.live), false);
+    if (playback_) playback_->set_playing(!ctx_.settings.paused);
+    send(frame(), true);
     read_next();
     arm_timer();
 }
@@ -58,20 +62,31 @@ void WsSession::on_read(beast::error_code ec, std::size_t) {
     if (!closing_) read_next();
 }
 
+std::string WsSession::frame() const { return playback_ ? frame_json(*playback_) : live_frame_json(*ctx_.live); }
+
+void WsSession::apply_live(const std::string& text) {
+    if (!ctx_.live->driving()) return close(websocket::close_code::policy_error, "a watching page sends nothing");
+    KeysMessage k;
+    std::string error;
+    if (!parse_keys_message(text, k, error)) return close(websocket::close_code::policy_error, error);
+    ctx_.live->set_keys(id_, k);
+}
+
 void WsSession::apply(const std::string& text) {
+    if (!playback_) return apply_live(text);
     PageMessage m;
     std::string error;
     const PageLimits limits{ctx_.main->first_tick(), ctx_.main->last_tick()};
     if (!parse_page_message(text, limits, m, error)) return close(websocket::close_code::policy_error, error);
     if (const auto* play = std::get_if<PlayMessage>(&m)) {
-        playback_.set_playing(play->playing);
+        playback_->set_playing(play->playing);
         last_advance_ = Clock::now();
     } else if (const auto* speed = std::get_if<SpeedMessage>(&m)) {
-        playback_.set_speed(speed->speed);
+        playback_->set_speed(speed->speed);
     } else if (const auto* seek = std::get_if<SeekMessage>(&m)) {
-        playback_.seek(seek->tick);
+        playback_->seek(seek->tick);
     }
-    send(frame_json(playback_), true);
+    send(frame(), true);
 }
 
 void WsSession::arm_timer() {
@@ -84,8 +99,12 @@ void WsSession::on_timer(beast::error_code ec) {
     const Clock::time_point now = Clock::now();
     const double real_s = std::chrono::duration<double>(now - last_advance_).count();
     last_advance_ = now;
-    const bool was_playing = playback_.playing();
-    if (playback_.advance(real_s) || was_playing != playback_.playing()) send(frame_json(playback_), true);
+    if (!playback_) {
+        send(frame(), true);  // live: the world moves on by itself
+    } else {
+        const bool was_playing = playback_->playing();
+        if (playback_->advance(real_s) || was_playing != playback_->playing()) send(frame(), true);
+    }
     arm_timer();
 }
 
@@ -124,6 +143,7 @@ void WsSession::finish(const std::string& why) {
     if (finished_) return;
     finished_ = true;
     timer_.cancel();
+    if (ctx_.live) ctx_.live->release_keys(id_);
     const double s = std::chrono::duration<double>(Clock::now() - opened_).count();
     spdlog::info("page {}: {}; {} bytes sent in {:.1f} s ({:.0f} B/s)", id_, why, bytes_sent_, s,
                  s > 0 ? static_cast<double>(bytes_sent_) / s : 0.0);

@@ -1,7 +1,8 @@
 // One page's WebSocket: sends the hello, then a frame whenever the tick it
 // shows changes (at most frame_rate_hz per second; a page that reads slowly
-// gets the newest frame, not a backlog), and obeys its page messages. A
-// malformed message closes this socket only, with a log line.
+// gets the newest frame, not a backlog), and obeys its page messages
+// (replay: the timeline; drive: the keys). A malformed message closes this
+// socket only, with a log line.
 #pragma once
 
 #include "playback.hpp"
@@ -15,6 +16,7 @@
 #include <chrono>
 #include <deque>
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace jetrace::view {
@@ -33,6 +35,9 @@ private:
     void read_next();
     void on_read(boost::beast::error_code ec, std::size_t bytes);
     void apply(const std::string& text);
+    void apply_live(const std::string& text);
+    /// The frame of what this page shows now.
+    std::string frame() const;
     void arm_timer();
     void on_timer(boost::beast::error_code ec);
     void send(std::string message, bool is_frame);
@@ -45,7 +50,8 @@ private:
     boost::asio::steady_timer timer_;
     ViewContext& ctx_;
     std::uint64_t id_;
-    Playback playback_;
+    /// Replay mode only (live pages show the live session's world).
+    std::optional<Playback> playback_;
     boost::beast::flat_buffer in_;
     /// Messages to write, the front one being written; at most one frame waits.
     std::deque<std::string> out_;

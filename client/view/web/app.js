@@ -1,11 +1,13 @@
 // jetrace viewer page: connects to jetrace-view's WebSocket, draws the
 // world it is sent (docs/VIEWER.md) and sends the user's timeline and
-// camera choices. window.jetrace is the test hook.
+// camera choices (replay) or the keys (drive). window.jetrace is the test
+// hook.
 import * as THREE from 'three';
 import { CSS2DRenderer } from 'three/addons/renderers/CSS2DRenderer.js';
 import { CarObject, carColor, gateObject, trackMesh } from './scene.js';
 import { Cameras } from './cameras.js';
 import { Panels } from './ui.js';
+import { driveKeys } from './keys.js';
 
 const view = document.getElementById('view');
 const renderer = new THREE.WebGLRenderer({ antialias: true });
@@ -32,6 +34,7 @@ let chaseSlot = 0;
 const state = { hello: null, frame: null, frames: 0, connected: false, closed: false, trackLoaded: false, waiters: [] };
 const cars = new Map();    // slot -> CarObject
 const ghosts = [];         // per ghost replay: Map slot -> CarObject
+let keys = null;           // drive mode: the keyboard
 
 const socket = new WebSocket('ws://' + location.host + '/ws');
 const send = (msg) => { if (socket.readyState === WebSocket.OPEN) socket.send(JSON.stringify(msg)); };
@@ -47,14 +50,17 @@ async function loadTrack(h) {
   redraw();
 }
 
+function addCar(slot, name) {
+  const car = new CarObject(slot, name, state.hello.car_radius_m, false);
+  cars.set(slot, car);
+  scene.add(car.group);
+  return car;
+}
+
 function onHello(h) {
   state.hello = h;
   panels.setHello(h);
-  for (const c of h.cars) {
-    const car = new CarObject(c.slot, c.name, h.car_radius_m, false);
-    cars.set(c.slot, car);
-    scene.add(car.group);
-  }
+  for (const c of h.cars) addCar(c.slot, c.name);
   h.ghosts.forEach((g) => {
     const m = new Map();
     for (const c of g.cars) {
@@ -65,6 +71,12 @@ function onHello(h) {
     ghosts.push(m);
   });
   chaseSlot = h.cars.length ? h.cars[0].slot : 0;
+  if (h.mode === 'drive') {
+    keys = driveKeys(send);
+    chaseSlot = h.own_slot;
+    panels.setCamera('chase', h.own_slot);
+    cameras.setMode('chase');
+  }
   loadTrack(h).catch((e) => panels.setConnection(String(e)));
 }
 
@@ -80,7 +92,18 @@ function place(objects, list) {
   for (const [slot, obj] of objects) if (!present.has(slot)) obj.group.visible = false;
 }
 
+// Live races: cars that join after the hello are added with the names of the standings.
+function addNewCars(f) {
+  for (const c of f.cars) {
+    if (cars.has(c.slot)) continue;
+    const s = f.standings.find((x) => x.slot === c.slot);
+    addCar(c.slot, s ? s.name : 'car ' + c.slot);
+    panels.addCar(c.slot, s ? s.name : 'car ' + c.slot);
+  }
+}
+
 function onFrame(f) {
+  if (state.hello.mode !== 'replay') addNewCars(f);
   place(cars, f.cars);
   f.ghosts.forEach((g) => { if (ghosts[g.index]) place(ghosts[g.index], g.cars); });
   state.frame = f;
@@ -125,6 +148,7 @@ renderer.setAnimationLoop(() => {
 function shown(objects) {
   return [...objects.values()].filter((o) => o.group.visible && o.seen).map((o) => ({
     slot: o.slot, name: o.name, x: o.group.position.x, y: o.group.position.y, z: o.group.position.z,
+    f: [o.forward.x, o.forward.y, o.forward.z], speed: o.speed, lap: o.lap, gate: o.gate,
   }));
 }
 
@@ -137,7 +161,11 @@ window.jetrace = {
     firstTick: state.hello ? state.hello.first_tick : null, lastTick: state.hello ? state.hello.last_tick : null,
     cars: shown(cars), ghosts: ghosts.map(shown),
     standings: state.frame ? state.frame.standings : [],
+    mode: state.hello ? state.hello.mode : null, ownSlot: state.frame ? state.frame.own_slot : null,
+    countdown: state.frame ? state.frame.countdown_s : null, keys: keys ? keys.current() : null,
   }),
+  // The track's gates as the hello gave them (gates[0] is the start line).
+  gates: () => (state.hello ? state.hello.track.gates : []),
   // Resolves with the first frame at `tick` after asking for it.
   seek: (tick) => new Promise((resolve) => {
     state.waiters.push((f) => (f.tick === tick ? (resolve(f.tick), true) : false));

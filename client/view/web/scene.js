@@ -93,6 +93,8 @@ export class CarObject {
     const up = new THREE.Vector3().crossVectors(this.forward, right);
     this.group.quaternion.setFromRotationMatrix(new THREE.Matrix4().makeBasis(right, up, this.forward));
     this.speed = car.speed;
+    this.lap = car.lap;
+    this.gate = car.gate;
     this.group.visible = true;
     this.seen = true;
   }

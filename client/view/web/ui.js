@@ -30,7 +30,12 @@ export class Panels {
 
   setHello(h) {
     this.hello = h;
-    $('track').textContent = h.track.name + ' · ' + h.laps + (h.laps === 1 ? ' lap' : ' laps');
+    this.laps = h.laps;
+    this.showTrack();
+    // Live races have no timeline.
+    $('timeline').hidden = h.mode !== 'replay';
+    $('mode').textContent = h.mode === 'drive' ? 'driving ' + h.driver + ' (arrows or WASD, space to brake)'
+      : h.mode === 'live' ? 'watching live' : '';
     const seek = $('seek');
     seek.min = h.first_tick;
     seek.max = h.last_tick;
@@ -40,16 +45,35 @@ export class Panels {
       ? 'ghosts: ' + h.ghosts.map((g) => g.file.split('/').pop() + ' (' + g.cars.length + ' cars)').join(', ') : '';
   }
 
+  showTrack() {
+    $('track').textContent = this.hello.track.name + ' · ' + this.laps + (this.laps === 1 ? ' lap' : ' laps');
+  }
+
+  addCar(slot, name) {
+    $('camera-car').append(new Option(name, slot));
+  }
+
+  setCamera(mode, slot) {
+    $('camera-mode').value = mode;
+    $('camera-car').value = String(slot);
+  }
+
   showTick(tick) {
     const h = this.hello;
-    if (!h) return;
+    if (!h || h.mode !== 'replay') return;
     $('seek-label').textContent = 'tick ' + tick + ' / ' + h.last_tick + ' · ' + clock((tick - h.start_tick) / h.tick_rate_hz);
   }
 
   setFrame(f, names) {
     this.playing = f.playing;
     $('play').textContent = f.playing ? 'pause' : 'play';
-    $('phase').textContent = f.phase;
+    if (f.laps !== undefined && f.laps !== this.laps) {
+      this.laps = f.laps;
+      this.showTrack();
+    }
+    $('phase').textContent = f.phase + (f.countdown_s !== undefined && f.countdown_s !== null
+      ? ' ' + f.countdown_s.toFixed(1) + ' s' : '');
+    if (f.connection !== undefined) this.setConnection(f.connection === 'connected' ? '' : f.connection);
     $('tick').textContent = f.tick;
     $('clock').textContent = clock(f.race_s);
     if (Number($('speed').value) !== f.speed) $('speed').value = String(f.speed);
@@ -63,7 +87,7 @@ export class Panels {
       const swatch = document.createElement('span');
       swatch.className = 'swatch';
       swatch.style.background = names.color(s.slot);
-      const cells = [String(s.pos), s.name, s.finished ? 'done' : s.lap + '/' + this.hello.laps, gap, seconds(s.best_lap_s)];
+      const cells = [String(s.pos), s.name, s.finished ? 'done' : s.lap + '/' + this.laps, gap, seconds(s.best_lap_s)];
       cells.forEach((text, i) => {
         const td = document.createElement('td');
         if (i === 1) td.append(swatch);

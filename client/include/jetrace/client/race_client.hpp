@@ -98,6 +98,8 @@ public:
     const ClientStats& stats() const { return stats_; }
     /// The last race's results (race_number 0: none yet).
     const proto::Results& results() const { return results_; }
+    /// The roster of the newest RaceStatus (names and slots of the players).
+    const std::vector<proto::PlayerInfo>& players() const { return players_; }
     std::uint32_t races_finished() const { return races_finished_; }
     double rtt_ms() const { return link_.rtt_ms(); }
     /// The Welcome's reconnect token (empty before a Welcome).
@@ -141,6 +143,7 @@ private:
     std::uint32_t race_number_ = 0;
     std::uint32_t races_finished_ = 0;
     proto::Results results_;
+    std::vector<proto::PlayerInfo> players_;
     std::uint64_t now_us_ = 0;
     /// The prediction runs (from a snapshot of this race).
     bool have_world_ = false;

@@ -1,0 +1,33 @@
+#include "json_parts.hpp"
+
+#include <cmath>
+
+namespace jetrace::view::json_parts {
+
+std::string text_of(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
+
+json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+double rounded(double v, double step) { return std::round(v / step) * step; }
+
+json unit(const Vec3& v) { return json::array({rounded(v.x(), 1e-4), rounded(v.y(), 1e-4), rounded(v.z(), 1e-4)}); }
+
+json optional_s(const std::optional<double>& v) { return v ? json(rounded(*v, 0.001)) : json(nullptr); }
+
+json track_json(const Track& t) {
+    json gates = json::array();
+    for (const Checkpoint& g : t.checkpoints) {
+        gates.push_back({{"center", vec(g.center)}, {"normal", vec(g.normal)}, {"across", vec(g.across)},
+                         {"up", vec(g.up)}, {"half_width_m", g.half_width_m}, {"half_height_m", g.half_height_m}});
+    }
+    return {{"name", t.name}, {"triangles", t.triangles.size()}, {"gates", gates},
+            {"bounds", {{"min", vec(t.bounds.min)}, {"max", vec(t.bounds.max)}}}};
+}
+
+json car_json(const CarState& c, std::size_t slot) {
+    return {{"slot", slot}, {"p", vec(c.position)}, {"f", unit(c.forward())}, {"u", unit(c.up())},
+            {"speed", rounded(c.velocity.norm(), 0.01)}, {"lap", c.lap}, {"gate", c.next_checkpoint},
+            {"finished", c.finished}};
+}
+
+}  // namespace jetrace::view::json_parts

@@ -1,0 +1,119 @@
+#include "live_json.hpp"
+
+#include "json_parts.hpp"
+
+#include "jetrace/race.hpp"
+
+namespace jetrace::view {
+
+namespace {
+
+using namespace json_parts;
+
+std::string name_of(const LiveSession& s, int slot) {
+    if (slot == s.client().slot()) return s.driver();
+    for (const proto::PlayerInfo& p : s.client().players()) {
+        if (p.slot == slot && !p.name.empty()) return p.name;
+    }
+    return "car " + std::to_string(slot);
+}
+
+json roster_json(const LiveSession& s) {
+    json out = json::array();
+    for (const proto::PlayerInfo& p : s.client().players()) {
+        out.push_back({{"slot", p.slot}, {"name", name_of(s, p.slot)}});
+    }
+    return out;
+}
+
+/// Every active car of the client's world where the client draws it.
+json cars_json(const LiveSession& s) {
+    const client::RaceClient& c = s.client();
+    const WorldState& predicted = s.world();
+    const WorldState& server = c.authoritative();
+    json out = json::array();
+    for (std::size_t i = 0; i < predicted.cars.size(); ++i) {
+        if (!predicted.cars[i].active) continue;
+        const int slot = static_cast<int>(i);
+        const bool own = slot == c.slot();
+        const CarState& car = own || i >= server.cars.size() ? predicted.cars[i] : server.cars[i];
+        json j = car_json(car, i);
+        j["p"] = vec(own ? c.visual_own_position() : c.visual_position(slot));
+        j["own"] = own;
+        out.push_back(std::move(j));
+    }
+    return out;
+}
+
+json standings_json(const LiveSession& s) {
+    const client::RaceClient& c = s.client();
+    const WorldState& w = s.world();
+    const int rate = c.scene().physics.tick_rate_hz;
+    const auto order = standings(c.scene().track, w.cars, w.start_tick, rate);
+    const int leader = order.empty() ? -1 : order.front().slot;
+    const std::uint32_t known = c.authoritative().tick;
+    json out = json::array();
+    int pos = 1;
+    for (const Standing& st : order) {
+        out.push_back({{"pos", pos++}, {"slot", st.slot}, {"name", name_of(s, st.slot)}, {"lap", st.lap},
+                       {"finished", st.finished},
+                       {"finish_s", st.finished ? json(rounded(st.finish_time_s, 0.001)) : json(nullptr)},
+                       {"gap_s", optional_s(s.timing().gap_s(st.slot, leader, known, rate))},
+                       {"best_lap_s", optional_s(s.timing().best_lap_s(st.slot, known, rate))}});
+    }
+    return out;
+}
+
+std::string connection_of(const client::RaceClient& c) {
+    using client::ClientState;
+    switch (c.state()) {
+        case ClientState::closed: return "closed: " + c.close_reason();
+        case ClientState::reconnecting: return "reconnecting";
+        default: return "connected";
+    }
+}
+
+}  // namespace
+
+std::string live_hello_json(const LiveSession& s) {
+    const client::RaceClient& c = s.client();
+    const json j = {{"type", "hello"},
+                    {"mode", s.driving() ? "drive" : "live"},
+                    {"driver", s.driving() ? json(s.driver()) : json(nullptr)},
+                    {"own_slot", c.slot()},
+                    {"track", track_json(c.scene().track)},
+                    {"car_radius_m", c.scene().physics.car_radius_m},
+                    {"tick_rate_hz", c.scene().physics.tick_rate_hz},
+                    {"first_tick", nullptr},
+                    {"last_tick", nullptr},
+                    {"start_tick", s.world().start_tick},
+                    {"laps", s.world().laps},
+                    {"end_reason", nullptr},
+                    {"cars", roster_json(s)},
+                    {"ghosts", json::array()}};
+    return text_of(j);
+}
+
+std::string live_frame_json(const LiveSession& s) {
+    const client::RaceClient& c = s.client();
+    const WorldState& w = s.world();
+    const int rate = c.scene().physics.tick_rate_hz;
+    const double race_s = (static_cast<double>(w.tick) - w.start_tick) / rate;
+    const bool counting = c.phase() == proto::RacePhase::countdown && w.tick < w.start_tick;
+    const json j = {{"type", "frame"},
+                    {"tick", w.tick},
+                    {"race_s", rounded(race_s, 0.001)},
+                    {"phase", proto::to_string(c.phase())},
+                    {"countdown_s", counting ? json(rounded(-race_s, 0.001)) : json(nullptr)},
+                    {"laps", w.laps},
+                    {"own_slot", c.slot()},
+                    {"connection", connection_of(c)},
+                    {"playing", true},
+                    {"speed", 1},
+                    {"cars", cars_json(s)},
+                    {"standings", standings_json(s)},
+                    {"ghosts", json::array()}};
+    return text_of(j);
+}
+
+}  // namespace jetrace::view
