@@ -86,6 +86,12 @@ void messages(const std::vector<Bytes>& worlds, const std::vector<std::uint32_t>
     welcome.server_tick = 1234;
     welcome.reconnect_token = token;
     put("message_decode", "welcome", jp::encode(welcome));
+    put("message_decode", "hello_observe", jp::encode(jp::Hello{jp::kProtocolVersion, "watcher", {}, {}, true}));
+    welcome.observer = true;
+    welcome.slot = 0;
+    welcome.reconnect_token.clear();
+    put("message_decode", "welcome_observer", jp::encode(welcome));
+    put("message_decode", "snapshot_ack", jp::encode(jp::SnapshotAck{4321}));
     put("message_decode", "refuse", jp::encode(jp::Refuse{"server full"}));
     put("message_decode", "goodbye", jp::encode(jp::Goodbye{"bye"}));
     jp::InputBatch batch;

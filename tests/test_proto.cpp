@@ -24,11 +24,14 @@ namespace {
 
 // ------------------------------------------------------------ equality
 
-auto tie(const jp::Hello& m) { return std::tie(m.protocol_version, m.name, m.reconnect_token, m.connect_token); }
+auto tie(const jp::Hello& m) {
+    return std::tie(m.protocol_version, m.name, m.reconnect_token, m.connect_token, m.observe);
+}
 auto tie(const jp::Welcome& m) {
     return std::tie(m.protocol_version, m.slot, m.max_players, m.tick_rate_hz, m.snapshot_rate_hz, m.track_name,
-                    m.track_identity, m.physics_hash, m.server_tick, m.reconnect_token);
+                    m.track_identity, m.physics_hash, m.server_tick, m.reconnect_token, m.observer);
 }
+auto tie(const jp::SnapshotAck& m) { return std::tie(m.ack_snapshot_tick); }
 auto tie(const jp::Refuse& m) { return std::tie(m.reason, m.code); }
 auto tie(const jp::InputBatch& m) { return std::tie(m.first_tick, m.inputs, m.ack_snapshot_tick); }
 auto tie(const jp::Snapshot& m) {
@@ -94,6 +97,8 @@ std::vector<jp::Message> sample_messages() {
     out.push_back(jp::Hello{2, "Alain", token(4), std::vector<std::uint8_t>(jp::kMaxConnectTokenBytes, 0x5A)});
     out.push_back(jp::Welcome{1, 5, 8, 120, 60, "ring", 0x1234567890abcdefull, 0xfedcba0987654321ull, 99, token(9), {}});
     out.push_back(jp::Welcome{2, 63, 64, 10000, 1, std::string(256, 't'), 0, 0, 0xFFFFFFFFu, {}, {}});
+    out.push_back(jp::Hello{5, "watcher", {}, {}, true});
+    out.push_back(jp::Welcome{5, 0, 8, 120, 60, "ring", 1, 2, 3, {}, {}, true});
     out.push_back(jp::Refuse{"server full"});
     out.push_back(jp::Refuse{std::string(256, 'r')});
     out.push_back(jp::Refuse{"server full", static_cast<std::uint16_t>(jp::CloseCode::refused_full)});
@@ -126,6 +131,9 @@ std::vector<jp::Message> sample_messages() {
     out.push_back(jp::Goodbye{""});
     out.push_back(jp::Goodbye{"no hello within 5 s", static_cast<std::uint16_t>(jp::CloseCode::no_hello)});
     out.push_back(jp::Goodbye{"", 0xFFFF});
+    out.push_back(jp::SnapshotAck{});
+    out.push_back(jp::SnapshotAck{0});
+    out.push_back(jp::SnapshotAck{123456});
     return out;
 }
 
@@ -141,7 +149,7 @@ bool decodes(std::span<const std::uint8_t> bytes, std::string* why = nullptr) {
 
 /// The file identifier of each message (docs/PROTOCOL.md, "Messages"), in
 /// the order of jp::Message's alternatives.
-const char* const kIds[] = {"JTR1", "JWLC", "JTR1", "JINP", "JSNP", "JRST", "JRES", "JBYE"};
+const char* const kIds[] = {"JTR1", "JWLC", "JTR1", "JINP", "JSNP", "JRST", "JRES", "JBYE", "JACK"};
 
 using jetrace::test::Bits;
 using jetrace::test::envelope;

@@ -66,16 +66,23 @@ void RaceClient::on_welcome(const proto::Welcome& w) {
     if (changed) predictor_.clear_scratch();  // it holds the other track's triangles
     clock_.set_tick_rate(scene().physics.tick_rate_hz);
     interpolator_.set_rates(scene().physics.tick_rate_hz, w.snapshot_rate_hz);
+    if (w.observer != config_.observe) {
+        return link_.leave(config_.observe ? "the server did not take us as an observer"
+                                           : "the server took us as an observer",
+                           proto::CloseCode::local_incompatible);
+    }
     if (link_.on_welcome(w)) {
         ++stats_.reconnects;
         reset_world();  // the server's world went on without us
     }
-    slot_ = w.slot;
-    spdlog::info("{}: welcome, slot {}", config_.name, slot_);
+    observer_ = w.observer;
+    slot_ = observer_ ? -1 : w.slot;
+    if (observer_) spdlog::info("{}: welcome, observing", config_.name);
+    else spdlog::info("{}: welcome, slot {}", config_.name, slot_);
 }
 
 void RaceClient::on_snapshot(const proto::Snapshot& s) {
-    if (slot_ < 0) return;
+    if (slot_ < 0 && !observer_) return;  // not welcomed
     if (s.race_number < race_number_) return;  // from a finished race
     if (s.race_number > race_number_) {
         // A new race: a fresh world whose ticks start again from 0.
@@ -83,7 +90,7 @@ void RaceClient::on_snapshot(const proto::Snapshot& s) {
         reset_world();
     }
     std::string error;
-    const auto added = snapshots_.add(s, static_cast<std::size_t>(slot_) + 1, now_us_, error);
+    const auto added = snapshots_.add(s, static_cast<std::size_t>(slot_ + 1), now_us_, error);
     if (added == SnapshotStore::Added::no_baseline || added == SnapshotStore::Added::undecodable) {
         ++stats_.snapshots_dropped;
         if (added == SnapshotStore::Added::undecodable)
@@ -93,6 +100,11 @@ void RaceClient::on_snapshot(const proto::Snapshot& s) {
     ++stats_.snapshots;
     phase_ = s.phase;
     if (added == SnapshotStore::Added::older) return;  // reordered
+    if (observer_) {
+        ack_pending_ = true;
+        have_world_ = true;
+        return link_.start_racing();
+    }
     if (!have_world_) return start_world();
     // Reconciled once the update's events are handled, with the newest of
     // them (a backlog of snapshots costs one replay, not one each).
@@ -177,6 +189,7 @@ void RaceClient::update(std::uint64_t now_us, const InputSource& input) {
     }
     reconcile_pending_ = false;
     link_.check_welcome_timeout();
+    if (observer_) return observe();
     if (link_.state() != LinkState::racing || !have_world_ || slot_ < 0) return link_.flush();
     clock_.skip_backlog(now_us);
     int ran = 0;
@@ -187,6 +200,16 @@ void RaceClient::update(std::uint64_t now_us, const InputSource& input) {
     // Inputs go out at most every `input_interval` ticks, with every input
     // the server has not yet applied (redundancy against loss).
     if (ran > 0 && (predicted_tick() % config_.input_interval_ticks == 0 || ran > 1)) send_inputs();
+    link_.flush();
+}
+
+void RaceClient::observe() {
+    // No ticks, no inputs: only the acknowledgement, so that the next
+    // snapshots come delta-encoded against it.
+    if (ack_pending_ && link_.state() == LinkState::racing && link_.transport()) {
+        link_.transport()->send(0, net::Channel::unreliable, proto::encode(proto::SnapshotAck{snapshots_.newest_tick()}));
+    }
+    ack_pending_ = false;
     link_.flush();
 }
 

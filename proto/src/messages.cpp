@@ -39,6 +39,7 @@ template <> struct Wire<Snapshot> { using Table = w::Snapshot; static constexpr 
 template <> struct Wire<RaceStatus> { using Table = w::RaceStatus; static constexpr const char* kId = "JRST"; };
 template <> struct Wire<Results> { using Table = w::Results; static constexpr const char* kId = "JRES"; };
 template <> struct Wire<Goodbye> { using Table = w::Goodbye; static constexpr const char* kId = "JBYE"; };
+template <> struct Wire<SnapshotAck> { using Table = w::SnapshotAck; static constexpr const char* kId = "JACK"; };
 // clang-format on
 
 /// flatbuffers::Verifier over the whole buffer as root table T with file
@@ -190,7 +191,7 @@ struct Encoder {
         assert(m.connect_token.size() <= kMaxConnectTokenBytes && "encode: connect token too long");
         const auto connect = m.connect_token.empty() ? 0 : b.CreateVector(m.connect_token);
         return finish_envelope(b, w::Handshake_Hello,
-                               w::CreateHello(b, m.protocol_version, name, tok, connect).Union());
+                               w::CreateHello(b, m.protocol_version, name, tok, connect, m.observe).Union());
     }
     std::vector<std::uint8_t> operator()(const Welcome& m) const {
         assert(m.max_players >= 1 && m.max_players <= kMaxSlots && m.slot < m.max_players);
@@ -202,7 +203,7 @@ struct Encoder {
         const auto physics = m.physics ? encode_physics(b, *m.physics) : 0;
         return finish<Welcome>(b, w::CreateWelcome(b, m.protocol_version, m.slot, m.max_players, m.tick_rate_hz,
                                                    m.snapshot_rate_hz, track, m.track_identity, m.physics_hash,
-                                                   m.server_tick, tok, physics));
+                                                   m.server_tick, tok, physics, m.observer));
     }
     std::vector<std::uint8_t> operator()(const Refuse& m) const {
         assert_text(m.reason, kMaxReasonBytes);
@@ -242,6 +243,9 @@ struct Encoder {
         assert_text(m.reason, kMaxReasonBytes);
         return finish<Goodbye>(b, w::CreateGoodbye(b, b.CreateString(m.reason), m.code));
     }
+    std::vector<std::uint8_t> operator()(const SnapshotAck& m) const {
+        return finish<SnapshotAck>(b, w::CreateSnapshotAck(b, m.ack_snapshot_tick));
+    }
 };
 
 // ---------------------------------------------------------------- decode
@@ -255,6 +259,7 @@ bool decode_body(const w::Hello& t, Message& out, Check& c) {
         if (ct->size() > kMaxConnectTokenBytes) return c.fail("Hello.connect_token", "too long");
         m.connect_token.assign(ct->begin(), ct->end());
     }
+    if (!c.flag(&t, w::Hello::VT_OBSERVE, "Hello.observe", m.observe)) return false;
     out = std::move(m);
     return true;
 }
@@ -284,6 +289,7 @@ bool decode_body(const w::Welcome& t, Message& out, Check& c) {
             return c.fail("Welcome.physics.tick_rate_hz", "differs from Welcome.tick_rate_hz");
         m.physics = p;
     }
+    if (!c.flag(&t, w::Welcome::VT_OBSERVER, "Welcome.observer", m.observer)) return false;
     out = std::move(m);
     return true;
 }
@@ -376,6 +382,11 @@ bool decode_body(const w::Goodbye& t, Message& out, Check& c) {
     return true;
 }
 
+bool decode_body(const w::SnapshotAck& t, Message& out, Check&) {
+    out = SnapshotAck{t.ack_snapshot_tick()};
+    return true;
+}
+
 /// Verifies the buffer as message M and decodes it.
 template <typename M>
 bool decode_as(const std::uint8_t* data, std::size_t size, Message& out, Check& c) {
@@ -417,7 +428,7 @@ constexpr Kind kind() {
 /// Every identifier: the Envelope's ("JTR1", the schema's file_identifier)
 /// for Hello and Refuse, then one per other message.
 constexpr Kind kKinds[] = {{"JTR1", decode_envelope}, kind<Welcome>(), kind<InputBatch>(), kind<Snapshot>(),
-                           kind<RaceStatus>(),        kind<Results>(), kind<Goodbye>()};
+                           kind<RaceStatus>(),        kind<Results>(), kind<Goodbye>(),  kind<SnapshotAck>()};
 static_assert(std::size(kKinds) == std::variant_size_v<Message> - 1);
 
 }  // namespace

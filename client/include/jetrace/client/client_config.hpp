@@ -47,6 +47,11 @@ struct ClientConfig {
     /// nothing and drives on the newest snapshot, its input computed once a
     /// snapshot (load tests: far cheaper per client, the same protocol).
     bool predict = true;
+    /// Join as an observer (Hello.observe): no car, no slot, no inputs (the
+    /// client acknowledges snapshots only); it follows the race for drawing
+    /// (RaceClient::render_world(), visual_position(), results()). An
+    /// observer has no reconnect token: a dropped connection closes it.
+    bool observe = false;
 };
 
 }  // namespace jetrace::client

@@ -42,6 +42,8 @@ enum class CloseCode : std::uint16_t {
     refused_draining = 2005,
     /// A fleet server that Agones has not allocated to a race yet.
     refused_unallocated = 2006,
+    /// Every observer place is taken (--max-observers).
+    refused_observers_full = 2007,
 
     // 4000-4999: the peer broke the protocol or went quiet.
     /// No Hello within the hello timeout: nothing was admitted, the client

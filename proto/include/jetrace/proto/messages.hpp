@@ -18,7 +18,7 @@
 
 namespace jetrace::proto {
 
-inline constexpr std::uint16_t kProtocolVersion = 4;
+inline constexpr std::uint16_t kProtocolVersion = 5;
 /// Larger datagrams are rejected before parsing (unit: bytes).
 inline constexpr std::size_t kMaxMessageBytes = 8192;
 /// Longest Snapshot payload (unit: bytes): room left for the flatbuffers
@@ -62,6 +62,9 @@ struct Hello {
     /// Empty, or a signed connect token for a private race (at most
     /// kMaxConnectTokenBytes; docs/PROTOCOL.md, "Connect tokens").
     std::vector<std::uint8_t> connect_token;
+    /// Join as an observer: no car and no slot, snapshots and results only
+    /// (docs/PROTOCOL.md, "Observers").
+    bool observe = false;
 };
 
 /// Server -> client, reliable: accepted.
@@ -80,6 +83,9 @@ struct Welcome {
     /// The server's physics settings (physics_hash(physics) == physics_hash
     /// from a server built with the same core; absent from older servers).
     std::optional<PhysicsSettings> physics;
+    /// Welcomed as an observer: `slot` means nothing (sent as 0) and there
+    /// is no reconnect token.
+    bool observer = false;
 };
 
 /// Server -> client, reliable: not accepted (then disconnected).
@@ -154,7 +160,15 @@ struct Goodbye {
     std::uint16_t code = 0;
 };
 
-using Message = std::variant<Hello, Welcome, Refuse, InputBatch, Snapshot, RaceStatus, Results, Goodbye>;
+/// Client -> server, unreliable: the newest snapshot the client decoded,
+/// for a client that sends no inputs (an observer); a player's InputBatch
+/// carries the same acknowledgement.
+struct SnapshotAck {
+    /// Newest snapshot tick the client has received (kNoTick: none yet).
+    std::uint32_t ack_snapshot_tick = kNoTick;
+};
+
+using Message = std::variant<Hello, Welcome, Refuse, InputBatch, Snapshot, RaceStatus, Results, Goodbye, SnapshotAck>;
 
 /// Serialises a message. Asserts on programmer errors (fields out of range).
 std::vector<std::uint8_t> encode(const Message& m);
