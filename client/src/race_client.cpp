@@ -52,6 +52,8 @@ void RaceClient::on_message(const proto::Message& m) {
         results_ = *res;
     } else if (const auto* snap = std::get_if<proto::Snapshot>(&m)) {
         on_snapshot(*snap);
+    } else if (const auto* chunk = std::get_if<proto::TrackChunk>(&m)) {
+        on_track_chunk(*chunk);
     }
 }
 
@@ -60,17 +62,39 @@ void RaceClient::on_welcome(const proto::Welcome& w) {
         spdlog::warn("{}: ignoring an unexpected second welcome", config_.name);
         return;
     }
-    bool changed = false;
-    std::string why;
-    if (!scenes_.choose(w, changed, why)) return link_.leave(why, proto::CloseCode::local_incompatible);
-    if (changed) predictor_.clear_scratch();  // it holds the other track's triangles
-    clock_.set_tick_rate(scene().physics.tick_rate_hz);
-    interpolator_.set_rates(scene().physics.tick_rate_hz, w.snapshot_rate_hz);
     if (w.observer != config_.observe) {
         return link_.leave(config_.observe ? "the server did not take us as an observer"
                                            : "the server took us as an observer",
                            proto::CloseCode::local_incompatible);
     }
+    if (!scenes_.knows(w.track_identity) && w.track_bytes > 0) {
+        // A track we lack: welcomed now, racing once it is downloaded.
+        std::string why;
+        if (!download_.start(w.track_bytes, w.track_identity, config_.max_track_bytes, why)) {
+            return link_.leave(why, proto::CloseCode::local_bad_track);
+        }
+        spdlog::info("{}: downloading the server's track '{}' ({} bytes)", config_.name, w.track_name, w.track_bytes);
+        download_welcome_ = w;
+        welcomed(w);
+        return request_track();
+    }
+    if (take_scene(w)) welcomed(w);
+}
+
+bool RaceClient::take_scene(const proto::Welcome& w) {
+    bool changed = false;
+    std::string why;
+    if (!scenes_.choose(w, changed, why)) {
+        link_.leave(why, proto::CloseCode::local_incompatible);
+        return false;
+    }
+    if (changed) predictor_.clear_scratch();  // it holds the other track's triangles
+    clock_.set_tick_rate(scene().physics.tick_rate_hz);
+    interpolator_.set_rates(scene().physics.tick_rate_hz, w.snapshot_rate_hz);
+    return true;
+}
+
+void RaceClient::welcomed(const proto::Welcome& w) {
     if (link_.on_welcome(w)) {
         ++stats_.reconnects;
         reset_world();  // the server's world went on without us
@@ -81,8 +105,30 @@ void RaceClient::on_welcome(const proto::Welcome& w) {
     else spdlog::info("{}: welcome, slot {}", config_.name, slot_);
 }
 
+void RaceClient::request_track() {
+    std::uint32_t offset = 0;
+    while (link_.transport() && download_.next_request(offset)) {
+        link_.transport()->send(0, net::Channel::reliable, proto::encode(proto::TrackRequest{offset}));
+    }
+}
+
+void RaceClient::on_track_chunk(const proto::TrackChunk& c) {
+    std::string why;
+    if (!download_.add(c, why)) return link_.leave(why, proto::CloseCode::local_bad_track);
+    if (!download_.complete()) return request_track();
+    Track track;
+    if (!download_.finish(track, why)) return link_.leave(why, proto::CloseCode::local_bad_track);
+    const proto::Welcome& w = download_welcome_;
+    PhysicsSettings physics = scene().physics;
+    if (w.physics && validate(*w.physics).empty()) physics = *w.physics;
+    spdlog::info("{}: downloaded the track '{}' ({} triangles)", config_.name, track.name, track.triangles.size());
+    scenes_.add(std::make_unique<Scene>(Scene::make(std::move(track), physics)));
+    take_scene(w);
+}
+
 void RaceClient::on_snapshot(const proto::Snapshot& s) {
     if (slot_ < 0 && !observer_) return;  // not welcomed
+    if (download_.active()) return;  // no track to race on yet
     if (s.race_number < race_number_) return;  // from a finished race
     if (s.race_number > race_number_) {
         // A new race: a fresh world whose ticks start again from 0.

@@ -14,6 +14,7 @@ std::string_view close_code_name(std::uint16_t code) {
         case CloseCode::local_incompatible: return "local_incompatible";
         case CloseCode::local_no_welcome: return "local_no_welcome";
         case CloseCode::local_connection_lost: return "local_connection_lost";
+        case CloseCode::local_bad_track: return "local_bad_track";
         case CloseCode::refused_version: return "refused_version";
         case CloseCode::refused_token: return "refused_token";
         case CloseCode::refused_clock: return "refused_clock";

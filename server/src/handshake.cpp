@@ -101,6 +101,7 @@ void RaceServer::send_welcome(Client& c) {
     w.physics_hash = proto::physics_hash(scene_.physics);
     w.physics = scene_.physics;
     w.server_tick = world_.tick;
+    w.track_bytes = static_cast<std::uint32_t>(track_file_.size());
     if (!c.observer) w.reconnect_token.assign(c.reconnect_token.begin(), c.reconnect_token.end());
     send(c.peer, net::Channel::reliable, w);
 }

@@ -40,7 +40,8 @@ RaceServer::RaceServer(const ServerConfig& config, const Scene& scene, net::Tran
       scene_(scene),
       transport_(transport),
       clock_(1e6 / scene.physics.tick_rate_hz),
-      sessions_(config.max_players) {
+      sessions_(config.max_players),
+      track_file_(track_file_of(scene.track)) {
     world_ = make_world(config_.max_players, config_.laps);
     if (config_.connect_key) {
         verifier_ = std::make_unique<auth::TokenVerifier>(
@@ -127,6 +128,12 @@ void RaceServer::on_message(Client& c, const proto::Message& m) {
             return;
         }
         take_ack(c, ack->ack_snapshot_tick);
+    } else if (const auto* request = std::get_if<proto::TrackRequest>(&m)) {
+        if (!c.greeted) {
+            drop(c.peer, DropReason::protocol, "protocol violation: track request before hello");
+            return;
+        }
+        on_track_request(c, *request);
     } else if (std::holds_alternative<proto::Goodbye>(m)) {
         // Forgotten at once: the slot is free for others now, whenever ENet
         // reports the disconnect, and the player cannot reconnect.

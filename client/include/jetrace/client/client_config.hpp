@@ -52,6 +52,10 @@ struct ClientConfig {
     /// (RaceClient::render_world(), visual_position(), results()). An
     /// observer has no reconnect token: a dropped connection closes it.
     bool observe = false;
+    /// Largest track file the client downloads when the server races on a
+    /// track it does not know (Welcome.track_bytes; 0: never download;
+    /// unit: bytes, at most proto::kMaxTrackBytes).
+    std::uint32_t max_track_bytes = 16u << 20;
 };
 
 }  // namespace jetrace::client

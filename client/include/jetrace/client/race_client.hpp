@@ -10,7 +10,8 @@
 // the race's phase(), race_number(), results() and races_finished().
 //
 // RaceClient routes the server's messages to one unit per concept: Link
-// (connection, joins, reconnects), SceneChoice (the track raced on),
+// (connection, joins, reconnects), SceneChoice (the track raced on, and
+// TrackDownload: a track the client lacks, fetched from the server),
 // ClientClock (the lead over the server), Predictor (prediction and
 // reconciliation), SnapshotStore (received worlds, acknowledgements) and
 // Interpolator (where cars are drawn).
@@ -25,6 +26,7 @@
 #include "jetrace/client/predictor.hpp"
 #include "jetrace/client/scene_choice.hpp"
 #include "jetrace/client/snapshot_store.hpp"
+#include "jetrace/client/track_download.hpp"
 #include "jetrace/net/transport.hpp"
 #include "jetrace/proto/messages.hpp"
 #include "jetrace/world.hpp"
@@ -96,6 +98,8 @@ public:
     bool spectating() const { return spectating_; }
     /// Welcomed as an observer (ClientConfig::observe): no car, no inputs.
     bool observer() const { return observer_; }
+    /// Fetching the server's track (welcomed; snapshots wait for it).
+    bool downloading_track() const { return download_.active(); }
     std::uint32_t race_number() const { return race_number_; }
     proto::RacePhase phase() const { return phase_; }
     /// The predicted world at predicted_tick() (thin: the newest snapshot's
@@ -140,6 +144,12 @@ private:
     void on_event(const net::Event& e);
     void on_message(const proto::Message& m);
     void on_welcome(const proto::Welcome& w);
+    /// The Welcome's track is known: races on it at the server's rates.
+    bool take_scene(const proto::Welcome& w);
+    /// Takes the slot (or the observer's place) of the Welcome.
+    void welcomed(const proto::Welcome& w);
+    void request_track();
+    void on_track_chunk(const proto::TrackChunk& c);
     void on_snapshot(const proto::Snapshot& s);
     /// Starts the prediction from the newest snapshot, ahead by the lead.
     void start_world();
@@ -180,6 +190,9 @@ private:
     std::int16_t pending_margin_ticks_ = 0;
     ClientStats stats_;
     std::vector<net::Event> events_;
+    TrackDownload download_;
+    /// The Welcome whose track is being downloaded.
+    proto::Welcome download_welcome_;
 };
 
 }  // namespace jetrace::client

@@ -32,6 +32,9 @@ enum class CloseCode : std::uint16_t {
     local_no_welcome = 3002,
     /// The connection could not be made, or dropped and could not be made again.
     local_connection_lost = 3003,
+    /// The server's track download was malformed, oversized, out of order,
+    /// or not the track its Welcome named.
+    local_bad_track = 3004,
 
     // 2000-2999: the server refused the Hello (the client may not just retry).
     refused_version = 2000,

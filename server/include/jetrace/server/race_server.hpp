@@ -111,6 +111,11 @@ int default_snapshot_rate(int tick_rate_hz);
 /// Empty if usable, else what is wrong.
 std::string validate(const ServerConfig& c, int tick_rate_hz);
 
+/// What clients download of `track`: its compiled .jtrack bytes, or nothing
+/// for a built-in track (same name and identity as the one this build
+/// makes), which every client has.
+std::vector<std::uint8_t> track_file_of(const Track& track);
+
 /// A player who had a car at the race's start.
 struct Racer {
     std::uint8_t slot = 0;
@@ -179,6 +184,8 @@ public:
     RaceCounters counters() const;
     /// Every player, connected or held, by slot.
     std::vector<PlayerStatus> player_status() const;
+    /// The track file clients download (empty: a built-in track).
+    const std::vector<std::uint8_t>& track_file() const { return track_file_; }
 
     /// Called at the end of every race that started (the caller writes the
     /// results file: the library does no file I/O).
@@ -211,6 +218,8 @@ private:
     bool check_connect_token(Client& c, const proto::Hello& h, std::optional<auth::ConnectToken>& ticket);
     void welcome_observer(Client& c, const proto::Hello& h);
     void on_inputs(Client& c, const proto::InputBatch& b);
+    /// Answers a TrackRequest with one TrackChunk (server/src/track_serve.cpp).
+    void on_track_request(Client& c, const proto::TrackRequest& r);
     /// Takes a snapshot acknowledgement (InputBatch or SnapshotAck).
     void take_ack(Client& c, std::uint32_t ack_snapshot_tick);
     void drop(net::PeerId peer, DropReason why, const std::string& reason);
@@ -249,6 +258,9 @@ private:
     std::uint64_t now_us_ = 0;
 
     SessionTable sessions_;
+    /// The track as a compiled .jtrack file, for clients that download it
+    /// (empty: a built-in track, which every client has).
+    std::vector<std::uint8_t> track_file_;
     std::unique_ptr<auth::TokenVerifier> verifier_;  // private races only
     std::int64_t unix_time_s_ = -1;                  // -1: not set
 

@@ -36,6 +36,8 @@ struct Client {
     std::uint64_t connected_us = 0;
     InputQueue inputs;
     std::uint32_t acked_snapshot = proto::kNoTick;
+    /// Track file bytes sent to this connection (TrackChunk; unit: bytes).
+    std::uint64_t track_bytes_sent = 0;
     /// Anomalies already logged for this client (bits of RaceServer's Anomaly).
     std::uint8_t logged_anomalies = 0;
     /// What a new race or a new connection starts without: inputs and
