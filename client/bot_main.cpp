@@ -122,9 +122,10 @@ int report(const BotOptions& o, const std::vector<Bot>& bots, bool stopped, doub
         const std::uint16_t code = b.client->close_code();
         if (jetrace::proto::close_class(code) == jetrace::proto::CloseClass::refused)
             std::fprintf(stderr, "jetrace-bot: %s: %s\n", b.name.c_str(), why.c_str());
-        if (code == static_cast<std::uint16_t>(jetrace::proto::CloseCode::local_incompatible)) {
+        if (code == static_cast<std::uint16_t>(jetrace::proto::CloseCode::local_incompatible) ||
+            code == static_cast<std::uint16_t>(jetrace::proto::CloseCode::local_bad_track)) {
             std::fprintf(stderr, "jetrace-bot: %s%s\n", why.c_str(),
-                         o.track_spec.empty() ? " (not a built-in track: pass --track FILE.obj)" : "");
+                         o.track_spec.empty() ? " (pass --track with the server's track file)" : "");
         }
     }
     auto rc = jetrace::bot::kFinished;

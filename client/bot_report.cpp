@@ -12,7 +12,12 @@ ExitCode outcome_of(const client::RaceClient& c, bool finished, bool stopped) {
     using proto::CloseClass;
     const std::uint16_t code = c.close_code();
     if (proto::close_class(code) == CloseClass::refused) return kRefused;
-    if (code == static_cast<std::uint16_t>(proto::CloseCode::local_incompatible)) return kBadArguments;
+    // Not the server's track or physics, or a track download that failed:
+    // --track with the server's track file races.
+    if (code == static_cast<std::uint16_t>(proto::CloseCode::local_incompatible) ||
+        code == static_cast<std::uint16_t>(proto::CloseCode::local_bad_track)) {
+        return kBadArguments;
+    }
     if (stopped) return kStopped;
     // The server said goodbye: it shut down, drained, cancelled its lobby, or dropped the bot.
     if (proto::close_class(code) == CloseClass::normal || proto::close_class(code) == CloseClass::remote_fault)

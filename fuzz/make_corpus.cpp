@@ -14,6 +14,7 @@
 #include "jetrace/track_io.hpp"
 #include "packed_payloads.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -86,6 +87,12 @@ void messages(const std::vector<Bytes>& worlds, const std::vector<std::uint32_t>
     welcome.server_tick = 1234;
     welcome.reconnect_token = token;
     put("message_decode", "welcome", jp::encode(welcome));
+    put("message_decode", "hello_observe", jp::encode(jp::Hello{jp::kProtocolVersion, "watcher", {}, {}, true}));
+    welcome.observer = true;
+    welcome.slot = 0;
+    welcome.reconnect_token.clear();
+    put("message_decode", "welcome_observer", jp::encode(welcome));
+    put("message_decode", "snapshot_ack", jp::encode(jp::SnapshotAck{4321}));
     put("message_decode", "refuse", jp::encode(jp::Refuse{"server full"}));
     put("message_decode", "goodbye", jp::encode(jp::Goodbye{"bye"}));
     jp::InputBatch batch;
@@ -180,6 +187,26 @@ void replay(const jetrace::Scene& scene) {
     put("replay_diff", "ring_2cars", bytes);
 }
 
+/// An input of fuzz_track_download: the file's size, flags (1: expect the
+/// assembled track), then each TrackChunk the server sends for `file` as a
+/// u16-length-prefixed message.
+Bytes download_input(const Bytes& file) {
+    Bytes out;
+    const auto size = static_cast<std::uint32_t>(file.size());
+    for (int i = 0; i < 4; ++i) out.push_back(static_cast<std::uint8_t>(size >> (8 * i)));
+    out.push_back(1);
+    for (std::size_t at = 0; at < file.size(); at += jp::kTrackChunkBytes) {
+        const std::size_t n = std::min(jp::kTrackChunkBytes, file.size() - at);
+        const Bytes msg = jp::encode(jp::TrackChunk{static_cast<std::uint32_t>(at),
+                                                    Bytes(file.begin() + static_cast<std::ptrdiff_t>(at),
+                                                          file.begin() + static_cast<std::ptrdiff_t>(at + n))});
+        out.push_back(static_cast<std::uint8_t>(msg.size()));
+        out.push_back(static_cast<std::uint8_t>(msg.size() >> 8));
+        out.insert(out.end(), msg.begin(), msg.end());
+    }
+    return out;
+}
+
 void tracks() {
     // The minimal convention (docs/TRACKS.md): floor, two gates, one spawn.
     put_text("obj_import", "minimal.obj",
@@ -211,6 +238,11 @@ void tracks() {
     const Bytes compiled = jetrace::encode_jtrack(tiny);
     put("jtrack", "tiny_oval.jtrack", compiled);
     put("jtrack", "tiny_oval_cut.jtrack", Bytes(compiled.begin(), compiled.begin() + 200));
+    // The track download: one chunk, and the ring's file in several.
+    put("track_download", "tiny_oval", download_input(compiled));
+    jetrace::Track ring;
+    jetrace::make_builtin_track("ring", ring);
+    put("track_download", "ring", download_input(jetrace::encode_jtrack(ring)));
 }
 
 }  // namespace

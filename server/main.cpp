@@ -120,7 +120,8 @@ bool make_scene(server::HostOptions& o, std::optional<Scene>& scene) {
         return false;
     }
     scene = Scene::make(std::move(track), physics);
-    o.net_cfg.max_connections = static_cast<std::size_t>(o.cfg.max_players) + 8;  // room to refuse politely
+    // Room to refuse politely beyond the players and observers.
+    o.net_cfg.max_connections = static_cast<std::size_t>(o.cfg.max_players) + static_cast<std::size_t>(o.cfg.max_observers) + 8;
     return true;
 }
 

@@ -34,6 +34,9 @@ void add_race_options(CLI::App& app, HostOptions& o) {
     app.add_option("--track", o.track_spec, "built-in track (stadium, ring) or a Wavefront .obj file");
     app.add_option("--laps", cfg.laps, "laps per race")->check(in_range(L::laps));
     app.add_option("--max-players", cfg.max_players, "most players in a race")->check(in_range(L::players));
+    app.add_option("--max-observers", cfg.max_observers,
+                   "most observers (clients that watch without a car) at a time, on top of the players")
+        ->check(in_range(L::observers));
     app.add_option("--min-players", cfg.min_players, "players needed to start the countdown")->check(in_range(L::players));
     app.add_option("--tick-rate", o.tick_rate, "simulation steps per second (clients adopt it)")
         ->check(CLI::Range(10, 1000));

@@ -165,7 +165,7 @@ TEST(Availability, OneSocketWithoutHellosLocksNobodyOut) {
     test::LiveRaceOptions o = test::lobby_options();
     o.max_players = 2;
     o.min_players = 1;
-    o.spare_connections = 8;  // as jetrace-server: max_players + 8 peer slots
+    o.spare_connections = 16;  // as jetrace-server: max_players + max_observers (8) + 8 peer slots
     o.max_pending_per_address = kCap;
     test::LiveRace race(o);
     ASSERT_TRUE(race.ok()) << race.error;

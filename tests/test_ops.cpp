@@ -104,13 +104,14 @@ TEST(Metrics, RendersThePublishedSample) {
     s.counters.races_finished = 2;
     s.counters.refused[static_cast<std::size_t>(jetrace::server::Refusal::full)] = 4;
     s.refused_unallocated = 1;
+    s.observers = 5;
     s.traffic.bytes_sent = 1234;
     m.observe_ticks(0.0003, 10);
     m.publish(s);
     s.counters.races_finished = 3;  // counters advance to the newest total
     m.publish(s);
     const std::string text = m.metrics_text();
-    for (const char* line : {"jetrace_players 2\n", "jetrace_observers 1\n", "jetrace_players_held 1\n",
+    for (const char* line : {"jetrace_players 2\n", "jetrace_spectators 1\n", "jetrace_observers 5\n", "jetrace_players_held 1\n",
                              "jetrace_races_finished_total 3\n", "jetrace_network_bytes_sent_total 1234\n",
                              "jetrace_connections_refused_total{reason=\"full\"} 4\n",
                              "jetrace_connections_refused_total{reason=\"unallocated\"} 1\n",

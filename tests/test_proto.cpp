@@ -24,11 +24,16 @@ namespace {
 
 // ------------------------------------------------------------ equality
 
-auto tie(const jp::Hello& m) { return std::tie(m.protocol_version, m.name, m.reconnect_token, m.connect_token); }
+auto tie(const jp::Hello& m) {
+    return std::tie(m.protocol_version, m.name, m.reconnect_token, m.connect_token, m.observe);
+}
 auto tie(const jp::Welcome& m) {
     return std::tie(m.protocol_version, m.slot, m.max_players, m.tick_rate_hz, m.snapshot_rate_hz, m.track_name,
-                    m.track_identity, m.physics_hash, m.server_tick, m.reconnect_token);
+                    m.track_identity, m.physics_hash, m.server_tick, m.reconnect_token, m.observer, m.track_bytes);
 }
+auto tie(const jp::SnapshotAck& m) { return std::tie(m.ack_snapshot_tick); }
+auto tie(const jp::TrackRequest& m) { return std::tie(m.offset); }
+auto tie(const jp::TrackChunk& m) { return std::tie(m.offset, m.bytes); }
 auto tie(const jp::Refuse& m) { return std::tie(m.reason, m.code); }
 auto tie(const jp::InputBatch& m) { return std::tie(m.first_tick, m.inputs, m.ack_snapshot_tick); }
 auto tie(const jp::Snapshot& m) {
@@ -94,6 +99,9 @@ std::vector<jp::Message> sample_messages() {
     out.push_back(jp::Hello{2, "Alain", token(4), std::vector<std::uint8_t>(jp::kMaxConnectTokenBytes, 0x5A)});
     out.push_back(jp::Welcome{1, 5, 8, 120, 60, "ring", 0x1234567890abcdefull, 0xfedcba0987654321ull, 99, token(9), {}});
     out.push_back(jp::Welcome{2, 63, 64, 10000, 1, std::string(256, 't'), 0, 0, 0xFFFFFFFFu, {}, {}});
+    out.push_back(jp::Hello{5, "watcher", {}, {}, true});
+    out.push_back(jp::Welcome{5, 0, 8, 120, 60, "ring", 1, 2, 3, {}, {}, true});
+    out.push_back(jp::Welcome{5, 1, 8, 120, 60, "my.obj", 1, 2, 3, token(2), {}, false, jp::kMaxTrackBytes});
     out.push_back(jp::Refuse{"server full"});
     out.push_back(jp::Refuse{std::string(256, 'r')});
     out.push_back(jp::Refuse{"server full", static_cast<std::uint16_t>(jp::CloseCode::refused_full)});
@@ -126,6 +134,14 @@ std::vector<jp::Message> sample_messages() {
     out.push_back(jp::Goodbye{""});
     out.push_back(jp::Goodbye{"no hello within 5 s", static_cast<std::uint16_t>(jp::CloseCode::no_hello)});
     out.push_back(jp::Goodbye{"", 0xFFFF});
+    out.push_back(jp::SnapshotAck{});
+    out.push_back(jp::SnapshotAck{0});
+    out.push_back(jp::SnapshotAck{123456});
+    out.push_back(jp::TrackRequest{});
+    out.push_back(jp::TrackRequest{0xFFFFFFFFu});
+    out.push_back(jp::TrackChunk{0, {0x4A}});
+    out.push_back(jp::TrackChunk{jp::kMaxTrackBytes - static_cast<std::uint32_t>(jp::kTrackChunkBytes),
+                                 std::vector<std::uint8_t>(jp::kTrackChunkBytes, 0x7E)});
     return out;
 }
 
@@ -141,7 +157,7 @@ bool decodes(std::span<const std::uint8_t> bytes, std::string* why = nullptr) {
 
 /// The file identifier of each message (docs/PROTOCOL.md, "Messages"), in
 /// the order of jp::Message's alternatives.
-const char* const kIds[] = {"JTR1", "JWLC", "JTR1", "JINP", "JSNP", "JRST", "JRES", "JBYE"};
+const char* const kIds[] = {"JTR1", "JWLC", "JTR1", "JINP", "JSNP", "JRST", "JRES", "JBYE", "JACK", "JTRQ", "JTRC"};
 
 using jetrace::test::Bits;
 using jetrace::test::envelope;
@@ -276,6 +292,39 @@ TEST(ProtoMessages, RejectsOutOfRangeFields) {
     rejects(welcome(0, 0, 120, 60), "Welcome.max_players");
     rejects(welcome(0, 8, 0, 60), "Welcome.tick_rate_hz");
     rejects(welcome(0, 8, 120, 10001), "Welcome.snapshot_rate_hz");
+    {  // protocol version 5's fields: bools stored as 0 or 1, a bounded track size
+        fb::FlatBufferBuilder b;
+        auto name = b.CreateString("ring");
+        rejects(finish(b, w::CreateWelcome(b, 5, 0, 8, 120, 60, name, 0, 0, 0, 0, 0, false, jp::kMaxTrackBytes + 1), "JWLC"),
+                "Welcome.track_bytes");
+        fb::FlatBufferBuilder b2;
+        auto name2 = b2.CreateString("ring");
+        const auto start = b2.StartTable();
+        b2.AddOffset(w::Welcome::VT_TRACK_NAME, name2);
+        b2.AddElement<std::uint8_t>(w::Welcome::VT_MAX_PLAYERS, 8, 0);
+        b2.AddElement<std::uint8_t>(w::Welcome::VT_OBSERVER, 2, 0);
+        rejects(finish(b2, fb::Offset<w::Welcome>(b2.EndTable(start)), "JWLC"), "Welcome.observer");
+        fb::FlatBufferBuilder b3;
+        auto n3 = b3.CreateString("x");
+        const auto h = b3.StartTable();
+        b3.AddOffset(w::Hello::VT_NAME, n3);
+        b3.AddElement<std::uint8_t>(w::Hello::VT_OBSERVE, 7, 0);
+        rejects(envelope(b3, w::Handshake_Hello, fb::Offset<void>(b3.EndTable(h))), "Hello.observe");
+    }
+    auto chunk = [](std::uint32_t offset, std::size_t n, bool with_bytes = true) {
+        fb::FlatBufferBuilder b;
+        const auto bytes = b.CreateVector(std::vector<std::uint8_t>(n, 1));
+        const auto start = b.StartTable();
+        b.AddElement<std::uint32_t>(w::TrackChunk::VT_OFFSET, offset, 0);
+        if (with_bytes) b.AddOffset(w::TrackChunk::VT_BYTES, bytes);
+        return finish(b, fb::Offset<w::TrackChunk>(b.EndTable(start)), "JTRC");
+    };
+    rejects(chunk(0, 0), "TrackChunk.bytes");
+    rejects(chunk(0, jp::kTrackChunkBytes + 1), "TrackChunk.bytes");
+    rejects(chunk(0, 1, false), "message");  // required: the verifier refuses it
+    rejects(chunk(jp::kMaxTrackBytes, 1), "TrackChunk.offset");
+    rejects(chunk(0xFFFFFFFFu, 1), "TrackChunk.offset");
+    EXPECT_TRUE(decodes(chunk(jp::kMaxTrackBytes - 1, 1)));
     auto status = [](std::vector<std::uint8_t> slots, std::uint8_t spectating = 0) {
         fb::FlatBufferBuilder b;
         std::vector<fb::Offset<w::PlayerInfo>> players;

@@ -42,7 +42,7 @@ TEST(SessionTable, SeatsPlayersInTheLowestFreeSlots) {
     EXPECT_EQ(table.driver_of(1)->peer, 9u);
     EXPECT_EQ(table.players(), 3);
     // Peers come back in peer order, whatever the join order.
-    EXPECT_EQ(table.greeted_peers(), (std::vector<jetrace::net::PeerId>{4, 7, 9}));
+    EXPECT_EQ(table.player_peers(), (std::vector<jetrace::net::PeerId>{4, 7, 9}));
     table.take(9);
     table.free_slot(1);
     EXPECT_EQ(table.first_free_slot(), 1);
@@ -116,4 +116,18 @@ TEST(SessionTable, RemembersWhyTheLatestSpentTokensAreVoid) {
         table.retire(t, "spent " + std::to_string(i));
     }
     EXPECT_EQ(table.retired_reason(first), "");
+}
+
+TEST(SessionTable, ObserversHoldNoSlotAndNoToken) {
+    SessionTable table(2);
+    join(table, 3, 0, 1);
+    Client& eye = table.connect(5, 0);
+    eye.greeted = true;
+    eye.observer = true;  // no slot, and its (all-zero) token is no credential
+    EXPECT_EQ(table.players(), 1);
+    EXPECT_EQ(table.observers(), 1);
+    EXPECT_EQ(table.player_peers(), (std::vector<jetrace::net::PeerId>{3}));
+    EXPECT_EQ(table.first_free_slot(), 1);
+    const ReconnectToken zeros{};
+    EXPECT_EQ(table.owner_of_token(zeros).client, nullptr);
 }

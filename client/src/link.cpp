@@ -115,6 +115,7 @@ void Link::send_hello() {
     proto::Hello h;
     h.name = config_.name;
     h.connect_token = config_.connect_token;
+    h.observe = config_.observe;
     if (state_ == LinkState::reconnecting || state_ == LinkState::reconnect_due) {
         h.reconnect_token = reconnect_token_;
     } else {

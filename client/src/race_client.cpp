@@ -53,6 +53,8 @@ void RaceClient::on_message(const proto::Message& m) {
         results_ = *res;
     } else if (const auto* snap = std::get_if<proto::Snapshot>(&m)) {
         on_snapshot(*snap);
+    } else if (const auto* chunk = std::get_if<proto::TrackChunk>(&m)) {
+        on_track_chunk(*chunk);
     }
 }
 
@@ -61,22 +63,73 @@ void RaceClient::on_welcome(const proto::Welcome& w) {
         spdlog::warn("{}: ignoring an unexpected second welcome", config_.name);
         return;
     }
+    if (w.observer != config_.observe) {
+        return link_.leave(config_.observe ? "the server did not take us as an observer"
+                                           : "the server took us as an observer",
+                           proto::CloseCode::local_incompatible);
+    }
+    if (!scenes_.knows(w.track_identity) && w.track_bytes > 0) {
+        // A track we lack: welcomed now, racing once it is downloaded.
+        std::string why;
+        if (!download_.start(w.track_bytes, w.track_identity, config_.max_track_bytes, why)) {
+            return link_.leave(why, proto::CloseCode::local_bad_track);
+        }
+        spdlog::info("{}: downloading the server's track '{}' ({} bytes)", config_.name, w.track_name, w.track_bytes);
+        download_welcome_ = w;
+        welcomed(w);
+        return request_track();
+    }
+    if (take_scene(w)) welcomed(w);
+}
+
+bool RaceClient::take_scene(const proto::Welcome& w) {
     bool changed = false;
     std::string why;
-    if (!scenes_.choose(w, changed, why)) return link_.leave(why, proto::CloseCode::local_incompatible);
+    if (!scenes_.choose(w, changed, why)) {
+        link_.leave(why, proto::CloseCode::local_incompatible);
+        return false;
+    }
     if (changed) predictor_.clear_scratch();  // it holds the other track's triangles
     clock_.set_tick_rate(scene().physics.tick_rate_hz);
     interpolator_.set_rates(scene().physics.tick_rate_hz, w.snapshot_rate_hz);
+    return true;
+}
+
+void RaceClient::welcomed(const proto::Welcome& w) {
     if (link_.on_welcome(w)) {
         ++stats_.reconnects;
         reset_world();  // the server's world went on without us
     }
-    slot_ = w.slot;
-    spdlog::info("{}: welcome, slot {}", config_.name, slot_);
+    observer_ = w.observer;
+    slot_ = observer_ ? -1 : w.slot;
+    if (observer_) spdlog::info("{}: welcome, observing", config_.name);
+    else spdlog::info("{}: welcome, slot {}", config_.name, slot_);
+}
+
+void RaceClient::request_track() {
+    std::uint32_t offset = 0;
+    while (link_.transport() && download_.next_request(offset)) {
+        link_.transport()->send(0, net::Channel::reliable, proto::encode(proto::TrackRequest{offset}));
+    }
+}
+
+void RaceClient::on_track_chunk(const proto::TrackChunk& c) {
+    std::string why;
+    if (!download_.add(c, why)) return link_.leave(why, proto::CloseCode::local_bad_track);
+    if (!download_.complete()) return request_track();
+    Track track;
+    if (!download_.finish(track, why)) return link_.leave(why, proto::CloseCode::local_bad_track);
+    const proto::Welcome& w = download_welcome_;
+    PhysicsSettings physics = scene().physics;
+    if (w.physics && validate(*w.physics).empty()) physics = *w.physics;
+    spdlog::info("{}: downloaded the track '{}' ({} triangles)", config_.name, track.name, track.triangles.size());
+    scenes_.add(std::make_unique<Scene>(Scene::make(std::move(track), physics)));
+    take_scene(w);
 }
 
 void RaceClient::on_snapshot(const proto::Snapshot& s) {
-    if (slot_ < 0) return;
+    if (slot_ < 0 && !observer_) return;  // not welcomed
+    if (download_.active()) return;  // no track to race on yet
     if (s.race_number < race_number_) return;  // from a finished race
     if (s.race_number > race_number_) {
         // A new race: a fresh world whose ticks start again from 0.
@@ -84,7 +137,7 @@ void RaceClient::on_snapshot(const proto::Snapshot& s) {
         reset_world();
     }
     std::string error;
-    const auto added = snapshots_.add(s, static_cast<std::size_t>(slot_) + 1, now_us_, error);
+    const auto added = snapshots_.add(s, static_cast<std::size_t>(slot_ + 1), now_us_, error);
     if (added == SnapshotStore::Added::no_baseline || added == SnapshotStore::Added::undecodable) {
         ++stats_.snapshots_dropped;
         if (added == SnapshotStore::Added::undecodable)
@@ -94,6 +147,11 @@ void RaceClient::on_snapshot(const proto::Snapshot& s) {
     ++stats_.snapshots;
     phase_ = s.phase;
     if (added == SnapshotStore::Added::older) return;  // reordered
+    if (observer_) {
+        ack_pending_ = true;
+        have_world_ = true;
+        return link_.start_racing();
+    }
     if (!have_world_) return start_world();
     // Reconciled once the update's events are handled, with the newest of
     // them (a backlog of snapshots costs one replay, not one each).
@@ -178,6 +236,7 @@ void RaceClient::update(std::uint64_t now_us, const InputSource& input) {
     }
     reconcile_pending_ = false;
     link_.check_welcome_timeout();
+    if (observer_) return observe();
     if (link_.state() != LinkState::racing || !have_world_ || slot_ < 0) return link_.flush();
     clock_.skip_backlog(now_us);
     int ran = 0;
@@ -188,6 +247,16 @@ void RaceClient::update(std::uint64_t now_us, const InputSource& input) {
     // Inputs go out at most every `input_interval` ticks, with every input
     // the server has not yet applied (redundancy against loss).
     if (ran > 0 && (predicted_tick() % config_.input_interval_ticks == 0 || ran > 1)) send_inputs();
+    link_.flush();
+}
+
+void RaceClient::observe() {
+    // No ticks, no inputs: only the acknowledgement, so that the next
+    // snapshots come delta-encoded against it.
+    if (ack_pending_ && link_.state() == LinkState::racing && link_.transport()) {
+        link_.transport()->send(0, net::Channel::unreliable, proto::encode(proto::SnapshotAck{snapshots_.newest_tick()}));
+    }
+    ack_pending_ = false;
     link_.flush();
 }
 

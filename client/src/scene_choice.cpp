@@ -21,6 +21,16 @@ bool SceneChoice::choose(const proto::Welcome& w, bool& changed, std::string& wh
     return true;
 }
 
+bool SceneChoice::knows(std::uint64_t track_identity) const {
+    return std::find(identities_.begin(), identities_.end(), track_identity) != identities_.end();
+}
+
+void SceneChoice::add(std::unique_ptr<Scene> scene) {
+    scenes_.push_back(scene.get());
+    identities_.push_back(scene->track.identity());
+    downloaded_.push_back(std::move(scene));
+}
+
 const Scene* SceneChoice::scene_for(const proto::Welcome& w, std::string& why) {
     const auto known = std::find(identities_.begin(), identities_.end(), w.track_identity);
     if (known == identities_.end()) {

@@ -14,6 +14,7 @@ std::string_view close_code_name(std::uint16_t code) {
         case CloseCode::local_incompatible: return "local_incompatible";
         case CloseCode::local_no_welcome: return "local_no_welcome";
         case CloseCode::local_connection_lost: return "local_connection_lost";
+        case CloseCode::local_bad_track: return "local_bad_track";
         case CloseCode::refused_version: return "refused_version";
         case CloseCode::refused_token: return "refused_token";
         case CloseCode::refused_clock: return "refused_clock";
@@ -21,6 +22,7 @@ std::string_view close_code_name(std::uint16_t code) {
         case CloseCode::refused_reconnect: return "refused_reconnect";
         case CloseCode::refused_draining: return "refused_draining";
         case CloseCode::refused_unallocated: return "refused_unallocated";
+        case CloseCode::refused_observers_full: return "refused_observers_full";
         case CloseCode::no_hello: return "no_hello";
         case CloseCode::malformed: return "malformed";
         case CloseCode::protocol_violation: return "protocol_violation";

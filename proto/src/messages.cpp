@@ -39,6 +39,9 @@ template <> struct Wire<Snapshot> { using Table = w::Snapshot; static constexpr 
 template <> struct Wire<RaceStatus> { using Table = w::RaceStatus; static constexpr const char* kId = "JRST"; };
 template <> struct Wire<Results> { using Table = w::Results; static constexpr const char* kId = "JRES"; };
 template <> struct Wire<Goodbye> { using Table = w::Goodbye; static constexpr const char* kId = "JBYE"; };
+template <> struct Wire<SnapshotAck> { using Table = w::SnapshotAck; static constexpr const char* kId = "JACK"; };
+template <> struct Wire<TrackRequest> { using Table = w::TrackRequest; static constexpr const char* kId = "JTRQ"; };
+template <> struct Wire<TrackChunk> { using Table = w::TrackChunk; static constexpr const char* kId = "JTRC"; };
 // clang-format on
 
 /// flatbuffers::Verifier over the whole buffer as root table T with file
@@ -190,19 +193,20 @@ struct Encoder {
         assert(m.connect_token.size() <= kMaxConnectTokenBytes && "encode: connect token too long");
         const auto connect = m.connect_token.empty() ? 0 : b.CreateVector(m.connect_token);
         return finish_envelope(b, w::Handshake_Hello,
-                               w::CreateHello(b, m.protocol_version, name, tok, connect).Union());
+                               w::CreateHello(b, m.protocol_version, name, tok, connect, m.observe).Union());
     }
     std::vector<std::uint8_t> operator()(const Welcome& m) const {
         assert(m.max_players >= 1 && m.max_players <= kMaxSlots && m.slot < m.max_players);
         assert(m.tick_rate_hz >= 1 && m.tick_rate_hz <= kMaxRateHz);
         assert(m.snapshot_rate_hz >= 1 && m.snapshot_rate_hz <= kMaxRateHz);
+        assert(m.track_bytes <= kMaxTrackBytes);
         assert_text(m.track_name, kMaxTrackNameBytes);
         const auto track = b.CreateString(m.track_name);
         const auto tok = token(b, m.reconnect_token);
         const auto physics = m.physics ? encode_physics(b, *m.physics) : 0;
         return finish<Welcome>(b, w::CreateWelcome(b, m.protocol_version, m.slot, m.max_players, m.tick_rate_hz,
                                                    m.snapshot_rate_hz, track, m.track_identity, m.physics_hash,
-                                                   m.server_tick, tok, physics));
+                                                   m.server_tick, tok, physics, m.observer, m.track_bytes));
     }
     std::vector<std::uint8_t> operator()(const Refuse& m) const {
         assert_text(m.reason, kMaxReasonBytes);
@@ -242,6 +246,17 @@ struct Encoder {
         assert_text(m.reason, kMaxReasonBytes);
         return finish<Goodbye>(b, w::CreateGoodbye(b, b.CreateString(m.reason), m.code));
     }
+    std::vector<std::uint8_t> operator()(const SnapshotAck& m) const {
+        return finish<SnapshotAck>(b, w::CreateSnapshotAck(b, m.ack_snapshot_tick));
+    }
+    std::vector<std::uint8_t> operator()(const TrackRequest& m) const {
+        return finish<TrackRequest>(b, w::CreateTrackRequest(b, m.offset));
+    }
+    std::vector<std::uint8_t> operator()(const TrackChunk& m) const {
+        assert(!m.bytes.empty() && m.bytes.size() <= kTrackChunkBytes &&
+               std::uint64_t{m.offset} + m.bytes.size() <= kMaxTrackBytes && "encode: bad track chunk");
+        return finish<TrackChunk>(b, w::CreateTrackChunk(b, m.offset, b.CreateVector(m.bytes)));
+    }
 };
 
 // ---------------------------------------------------------------- decode
@@ -255,6 +270,7 @@ bool decode_body(const w::Hello& t, Message& out, Check& c) {
         if (ct->size() > kMaxConnectTokenBytes) return c.fail("Hello.connect_token", "too long");
         m.connect_token.assign(ct->begin(), ct->end());
     }
+    if (!c.flag(&t, w::Hello::VT_OBSERVE, "Hello.observe", m.observe)) return false;
     out = std::move(m);
     return true;
 }
@@ -284,6 +300,9 @@ bool decode_body(const w::Welcome& t, Message& out, Check& c) {
             return c.fail("Welcome.physics.tick_rate_hz", "differs from Welcome.tick_rate_hz");
         m.physics = p;
     }
+    if (!c.flag(&t, w::Welcome::VT_OBSERVER, "Welcome.observer", m.observer)) return false;
+    m.track_bytes = t.track_bytes();
+    if (m.track_bytes > kMaxTrackBytes) return c.fail("Welcome.track_bytes", "above kMaxTrackBytes");
     out = std::move(m);
     return true;
 }
@@ -376,6 +395,26 @@ bool decode_body(const w::Goodbye& t, Message& out, Check& c) {
     return true;
 }
 
+bool decode_body(const w::SnapshotAck& t, Message& out, Check&) {
+    out = SnapshotAck{t.ack_snapshot_tick()};
+    return true;
+}
+
+bool decode_body(const w::TrackRequest& t, Message& out, Check&) {
+    out = TrackRequest{t.offset()};
+    return true;
+}
+
+bool decode_body(const w::TrackChunk& t, Message& out, Check& c) {
+    const auto* bytes = t.bytes();
+    if (!bytes) return c.fail("TrackChunk.bytes", "missing");
+    if (bytes->size() == 0 || bytes->size() > kTrackChunkBytes) return c.fail("TrackChunk.bytes", "not 1..kTrackChunkBytes long");
+    if (std::uint64_t{t.offset()} + bytes->size() > kMaxTrackBytes)
+        return c.fail("TrackChunk.offset", "ends past kMaxTrackBytes");
+    out = TrackChunk{t.offset(), std::vector<std::uint8_t>(bytes->begin(), bytes->end())};
+    return true;
+}
+
 /// Verifies the buffer as message M and decodes it.
 template <typename M>
 bool decode_as(const std::uint8_t* data, std::size_t size, Message& out, Check& c) {
@@ -417,7 +456,8 @@ constexpr Kind kind() {
 /// Every identifier: the Envelope's ("JTR1", the schema's file_identifier)
 /// for Hello and Refuse, then one per other message.
 constexpr Kind kKinds[] = {{"JTR1", decode_envelope}, kind<Welcome>(), kind<InputBatch>(), kind<Snapshot>(),
-                           kind<RaceStatus>(),        kind<Results>(), kind<Goodbye>()};
+                           kind<RaceStatus>(),        kind<Results>(), kind<Goodbye>(),  kind<SnapshotAck>(),
+                           kind<TrackRequest>(),      kind<TrackChunk>()};
 static_assert(std::size(kKinds) == std::variant_size_v<Message> - 1);
 
 }  // namespace

@@ -42,7 +42,7 @@ void RaceServer::lobby_tick() {
 
 void RaceServer::cancel_lobby(const std::string& reason) {
     spdlog::info("{}", reason);
-    for (net::PeerId peer : sessions_.greeted_peers()) {
+    for (net::PeerId peer : sessions_.player_peers()) {
         send(peer, net::Channel::reliable,
              proto::Goodbye{reason, static_cast<std::uint16_t>(proto::CloseCode::lobby_cancelled)});
         transport_.disconnect(peer);

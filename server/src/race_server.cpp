@@ -26,6 +26,7 @@ proto::CloseCode close_code(Refusal why) {
         case Refusal::clock: return proto::CloseCode::refused_clock;
         case Refusal::full: return proto::CloseCode::refused_full;
         case Refusal::reconnect: return proto::CloseCode::refused_reconnect;
+        case Refusal::observers_full: return proto::CloseCode::refused_observers_full;
         case Refusal::draining:
         case Refusal::count: break;
     }
@@ -39,7 +40,8 @@ RaceServer::RaceServer(const ServerConfig& config, const Scene& scene, net::Tran
       scene_(scene),
       transport_(transport),
       clock_(1e6 / scene.physics.tick_rate_hz),
-      sessions_(config.max_players) {
+      sessions_(config.max_players),
+      track_file_(track_file_of(scene.track)) {
     world_ = make_world(config_.max_players, config_.laps);
     if (config_.connect_key) {
         verifier_ = std::make_unique<auth::TokenVerifier>(
@@ -120,6 +122,18 @@ void RaceServer::on_message(Client& c, const proto::Message& m) {
             return;
         }
         on_inputs(c, *inputs);
+    } else if (const auto* ack = std::get_if<proto::SnapshotAck>(&m)) {
+        if (!c.greeted) {
+            drop(c.peer, DropReason::protocol, "protocol violation: acknowledgement before hello");
+            return;
+        }
+        take_ack(c, ack->ack_snapshot_tick);
+    } else if (const auto* request = std::get_if<proto::TrackRequest>(&m)) {
+        if (!c.greeted) {
+            drop(c.peer, DropReason::protocol, "protocol violation: track request before hello");
+            return;
+        }
+        on_track_request(c, *request);
     } else if (std::holds_alternative<proto::Goodbye>(m)) {
         // Forgotten at once: the slot is free for others now, whenever ENet
         // reports the disconnect, and the player cannot reconnect.
@@ -132,84 +146,21 @@ void RaceServer::on_message(Client& c, const proto::Message& m) {
     }
 }
 
-void RaceServer::on_hello(Client& c, const proto::Hello& h) {
-    if (c.greeted) {
-        drop(c.peer, DropReason::protocol, "protocol violation: second hello");
-        return;
+void RaceServer::take_ack(Client& c, std::uint32_t ack_snapshot_tick) {
+    if (ack_snapshot_tick != proto::kNoTick && ack_snapshot_tick <= world_.tick &&
+        (c.acked_snapshot == proto::kNoTick || ack_snapshot_tick > c.acked_snapshot)) {
+        c.acked_snapshot = ack_snapshot_tick;
     }
-    if (h.protocol_version != proto::kProtocolVersion) {
-        refuse(c, h.name, Refusal::version, "protocol version " + std::to_string(h.protocol_version) + " not supported (server speaks " +
-                      std::to_string(proto::kProtocolVersion) + ")");
-        return;
-    }
-    if (!h.reconnect_token.empty()) {
-        on_reconnect(c, h);
-        return;
-    }
-    if (draining_) {
-        refuse(c, h.name, Refusal::draining, "server draining: it finishes the race under way and accepts no new players");
-        return;
-    }
-    std::optional<auth::ConnectToken> ticket;
-    if (verifier_) {
-        if (unix_time_s_ < 0) {
-            spdlog::error("private race: the caller never set the wall clock, so no connect token can be checked");
-            refuse(c, h.name, Refusal::clock, "server clock not set: cannot check connect tokens");
-            return;
-        }
-        auth::Verdict v = verifier_->check(h.connect_token, h.name, unix_time_s_);
-        if (!v.ok()) {
-            refuse(c, h.name, Refusal::token, v.refusal);
-            return;
-        }
-        ticket = std::move(v.token);
-    }
-    const int slot = sessions_.first_free_slot();
-    if (slot < 0) {
-        refuse(c, h.name, Refusal::full, "server full (" + std::to_string(config_.max_players) + " players)");
-        return;
-    }
-    if (ticket) {
-        verifier_->admit(*ticket);  // spent only once it got the player in
-        if (on_nonce_spent) on_nonce_spent(*verifier_);
-    }
-    c.greeted = true;
-    c.hello_name = h.name;
-    c.name = h.name.empty() ? "player" + std::to_string(slot) : h.name;
-    c.slot = slot;
-    c.spectating = phase_ != proto::RacePhase::lobby;
-    sessions_.seat(c);
-    max_players_seen_ = std::max(max_players_seen_, players());
-    spdlog::info("client {} is '{}' in slot {}{}", c.peer, c.name, slot, c.spectating ? " (spectating until the next race)" : "");
-    send_welcome(c);
-    broadcast_status();
-}
-
-void RaceServer::send_welcome(Client& c) {
-    // Past its Hello: the connection no longer counts against its address's
-    // pre-Hello cap (net::ServerConfig::max_pending_per_address).
-    transport_.admit(c.peer);
-    // A fresh secret for every Welcome: the one a reconnect used is spent.
-    auth::random_bytes(c.reconnect_token);
-    proto::Welcome w;
-    w.slot = static_cast<std::uint8_t>(c.slot);
-    w.max_players = static_cast<std::uint8_t>(config_.max_players);
-    w.tick_rate_hz = static_cast<std::uint16_t>(scene_.physics.tick_rate_hz);
-    w.snapshot_rate_hz = static_cast<std::uint16_t>(config_.snapshot_rate_hz);
-    w.track_name = scene_.track.name;
-    w.track_identity = scene_.track.identity();
-    w.physics_hash = proto::physics_hash(scene_.physics);
-    w.physics = scene_.physics;
-    w.server_tick = world_.tick;
-    w.reconnect_token.assign(c.reconnect_token.begin(), c.reconnect_token.end());
-    send(c.peer, net::Channel::reliable, w);
 }
 
 void RaceServer::on_inputs(Client& c, const proto::InputBatch& b) {
-    if (b.ack_snapshot_tick != proto::kNoTick && b.ack_snapshot_tick <= world_.tick &&
-        (c.acked_snapshot == proto::kNoTick || b.ack_snapshot_tick > c.acked_snapshot)) {
-        c.acked_snapshot = b.ack_snapshot_tick;
+    if (c.observer) {
+        // Nothing of it counts, its acknowledgement included: an observer
+        // acknowledges with SnapshotAck.
+        note(c, kInputFromObserver, "inputs from an observer (it has no car); ignored");
+        return;
     }
+    take_ack(c, b.ack_snapshot_tick);
     if (phase_ != proto::RacePhase::countdown && phase_ != proto::RacePhase::racing) return;
     if (c.spectating || c.slot < 0) {
         note(c, kInputWhileSpectating, "inputs while spectating (no car until the next race); ignored");
@@ -237,19 +188,24 @@ void RaceServer::note(Client& c, Anomaly kind, const std::string& what) {
                 "client {} ({}): {} (logged once per client)", c.peer, c.name, what);
 }
 
-void RaceServer::broadcast_status() {
+proto::RaceStatus RaceServer::status() const {
     proto::RaceStatus s;
     s.phase = phase_;
     s.race_number = race_number_;
     s.start_tick = world_.start_tick;
     s.laps = static_cast<std::uint16_t>(config_.laps);
     for (const auto& [peer, c] : sessions_.clients()) {
-        if (!c.greeted) continue;
+        if (!c.greeted || c.observer) continue;
         s.players.push_back({static_cast<std::uint8_t>(c.slot), c.name, c.spectating});
     }
     for (const auto& [slot, h] : sessions_.held()) {
         s.players.push_back({static_cast<std::uint8_t>(slot), h.client.name, h.client.spectating});
     }
+    return s;
+}
+
+void RaceServer::broadcast_status() {
+    const proto::RaceStatus s = status();
     for (const auto& [peer, c] : sessions_.clients()) {
         if (c.greeted) send(peer, net::Channel::reliable, s);
     }

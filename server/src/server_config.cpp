@@ -19,6 +19,7 @@ std::string validate(const ServerConfig& c, int tick_rate_hz) {
     std::ostringstream err;
     check(err, c.laps, L::laps, "laps");
     check(err, c.max_players, L::players, "max players");
+    check(err, c.max_observers, L::observers, "max observers");
     if (c.min_players < 1 || c.min_players > c.max_players) err << "min players must be in [1, max players]; ";
     if (c.snapshot_rate_hz < 1 || c.snapshot_rate_hz > tick_rate_hz || tick_rate_hz % c.snapshot_rate_hz != 0)
         err << "snapshot rate must divide the tick rate (" << tick_rate_hz << " Hz; the default snapshot rate is "

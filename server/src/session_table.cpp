@@ -33,14 +33,19 @@ Client SessionTable::take(net::PeerId peer) {
 }
 
 int SessionTable::players() const {
-    return static_cast<int>(
-        std::count_if(clients_.begin(), clients_.end(), [](const auto& kv) { return kv.second.greeted; }));
+    return static_cast<int>(std::count_if(clients_.begin(), clients_.end(),
+                                          [](const auto& kv) { return kv.second.greeted && !kv.second.observer; }));
 }
 
-std::vector<net::PeerId> SessionTable::greeted_peers() const {
+int SessionTable::observers() const {
+    return static_cast<int>(std::count_if(clients_.begin(), clients_.end(),
+                                          [](const auto& kv) { return kv.second.greeted && kv.second.observer; }));
+}
+
+std::vector<net::PeerId> SessionTable::player_peers() const {
     std::vector<net::PeerId> out;
     for (const auto& [peer, c] : clients_) {
-        if (c.greeted) out.push_back(peer);
+        if (c.greeted && !c.observer) out.push_back(peer);
     }
     return out;
 }
@@ -110,7 +115,7 @@ SessionTable::TokenOwner SessionTable::owner_of_token(std::span<const std::uint8
         }
     }
     for (auto& [peer, other] : clients_) {
-        if (!owner.client && other.greeted && auth::equal_secret(other.reconnect_token, token)) {
+        if (!owner.client && other.greeted && !other.observer && auth::equal_secret(other.reconnect_token, token)) {
             owner.client = &other;
             owner.live_peer = peer;
         }

@@ -74,6 +74,8 @@ struct LiveRaceOptions {
     std::int64_t unix_s = -1;
     /// Applies SPDLOG_LEVEL (SPDLOG_LEVEL=debug for the details).
     bool log_levels_from_env = false;
+    /// The track raced on (null: the built-in ring).
+    const Track* track = nullptr;
     /// Last changes to the server's configuration (e.g. a connect key).
     std::function<void(server::ServerConfig&)> tweak;
 };
@@ -113,7 +115,8 @@ public:
     explicit LiveRace(const LiveRaceOptions& o) : unix_s(o.unix_s), options_(o) {
         if (o.log_levels_from_env) spdlog::cfg::load_env_levels();
         Track track;
-        make_builtin_track("ring", track);
+        if (o.track) track = *o.track;
+        else make_builtin_track("ring", track);
         scene_ = std::make_unique<Scene>(Scene::make(std::move(track), PhysicsSettings{}));
         server::ServerConfig cfg;
         cfg.laps = o.laps;
@@ -185,18 +188,24 @@ public:
 
     /// A bot that connects now and after every drop, each time through a
     /// fresh Severable connection (its `link`).
-    Bot& add_bot(const client::ClientConfig& cc) {
+    Bot& add_bot(const client::ClientConfig& cc) { return add_bot(cc, client::KnownScenes{scene_.get()}); }
+    /// The same, knowing `scenes` (not necessarily the server's track), each
+    /// connection passed through `wrap` if given.
+    using Wrap = std::function<std::unique_ptr<net::Transport>(std::unique_ptr<net::Transport>)>;
+    Bot& add_bot(const client::ClientConfig& cc, client::KnownScenes scenes, Wrap wrap = {}) {
         Bot& bot = new_bot();
         Bot* b = &bot;
-        bot.client = std::make_unique<client::RaceClient>(cc, *scene_, [this, b]() -> std::unique_ptr<net::Transport> {
-            std::string why;
-            auto inner = connect(5000, why);
-            EXPECT_TRUE(inner) << why;
-            if (!inner) return nullptr;
-            auto s = std::make_unique<Severable>(std::move(inner));
-            b->link = s.get();
-            return s;
-        });
+        bot.client = std::make_unique<client::RaceClient>(
+            cc, std::move(scenes), [this, b, wrap]() -> std::unique_ptr<net::Transport> {
+                std::string why;
+                auto inner = connect(5000, why);
+                EXPECT_TRUE(inner) << why;
+                if (!inner) return nullptr;
+                auto s = std::make_unique<Severable>(std::move(inner));
+                b->link = s.get();
+                if (wrap) return wrap(std::move(s));
+                return s;
+            });
         return bot;
     }
     Bot& add_bot(const std::string& name) {

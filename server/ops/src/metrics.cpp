@@ -49,8 +49,9 @@ struct Metrics::Impl {
                                                            0.00005, 0.0001, 0.00025, 0.0005, 0.001, 0.002, 0.004,
                                                            0.00833, 0.016, 0.05});
     Gauge& players = gauge(registry, "jetrace_players", "Connected players (those spectating included)");
-    Gauge& observers = gauge(registry, "jetrace_observers",
-                             "Connected players without a car in the race under way (joined during it)");
+    Gauge& spectators = gauge(registry, "jetrace_spectators",
+                              "Connected players without a car in the race under way (joined during it)");
+    Gauge& observers = gauge(registry, "jetrace_observers", "Connected observers (clients that watch without a car)");
     Gauge& held = gauge(registry, "jetrace_players_held", "Slots held for dropped players who may reconnect");
     Counter& started = counter(registry, "jetrace_races_started_total", "Races whose countdown began");
     Counter& finished = counter(registry, "jetrace_races_finished_total",
@@ -135,6 +136,7 @@ void Metrics::publish(const MetricsSample& s) {
     j["tick"] = s.race_tick;
     j["server_ticks"] = s.server_ticks;
     j["races_finished"] = s.counters.races_finished;
+    j["observers"] = s.observers;
     j["players"] = nlohmann::json::array();
     int connected = 0, spectating = 0, held = 0;
     for (const auto& p : s.players) {
@@ -154,7 +156,8 @@ void Metrics::publish(const MetricsSample& s) {
     std::lock_guard lock(m.mutex);
     m.status = std::move(status);
     m.players.Set(connected);
-    m.observers.Set(spectating);
+    m.spectators.Set(spectating);
+    m.observers.Set(s.observers);
     m.held.Set(held);
     advance(m.started, s.counters.races_started);
     advance(m.finished, s.counters.races_finished);
@@ -190,6 +193,7 @@ MetricsSample sample_of(const server::RaceServer& server, const net::Transport& 
     s.race_tick = server.world().tick;
     s.server_ticks = server.ticks();
     s.players = server.player_status();
+    s.observers = server.observers();
     s.counters = server.counters();
     s.traffic = transport.totals();
     return s;

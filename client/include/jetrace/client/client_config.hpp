@@ -47,6 +47,15 @@ struct ClientConfig {
     /// nothing and drives on the newest snapshot, its input computed once a
     /// snapshot (load tests: far cheaper per client, the same protocol).
     bool predict = true;
+    /// Join as an observer (Hello.observe): no car, no slot, no inputs (the
+    /// client acknowledges snapshots only); it follows the race for drawing
+    /// (RaceClient::render_world(), visual_position(), results()). An
+    /// observer has no reconnect token: a dropped connection closes it.
+    bool observe = false;
+    /// Largest track file the client downloads when the server races on a
+    /// track it does not know (Welcome.track_bytes; 0: never download;
+    /// unit: bytes, at most proto::kMaxTrackBytes).
+    std::uint32_t max_track_bytes = 16u << 20;
 };
 
 }  // namespace jetrace::client

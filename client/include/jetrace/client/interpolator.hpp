@@ -34,6 +34,15 @@ public:
     Vec3 own(const Vec3& predicted) const { return predicted + offset_; }
     /// Another car, at `now_us` on a clock of period `period_us` (unit: µs).
     Vec3 other(const SnapshotStore& store, int slot, std::uint64_t now_us, double period_us) const;
+    /// The render tick at `now_us`: the newest snapshot's tick, plus the
+    /// ticks since it arrived, less the delay (unit: ticks; fractional).
+    double render_tick(const SnapshotStore& store, std::uint64_t now_us, double period_us) const;
+    /// Every car at the render tick, as other() places it (velocity
+    /// interpolated alike, orientation normalised-linearly), the other
+    /// fields from the stored snapshot at or before the render tick; the
+    /// rules and the cars no stored snapshot brackets from the newest
+    /// snapshot; `tick` the render tick rounded down. For drawing only.
+    void world(const SnapshotStore& store, std::uint64_t now_us, double period_us, WorldState& out) const;
 
 private:
     double delay_snapshots_;

@@ -3,8 +3,15 @@
 // snapshots, and interpolates the other cars. No rendering: a game (or a
 // bot) reads predicted() and the visual_* functions.
 //
+// An observer (ClientConfig::observe) has no car: it runs no prediction and
+// sends no inputs, only snapshot acknowledgements. It draws the race from
+// the snapshots, as a player draws the other cars: render_world() (every car
+// at the render time), visual_position(slot), authoritative(), and it has
+// the race's phase(), race_number(), results() and races_finished().
+//
 // RaceClient routes the server's messages to one unit per concept: Link
-// (connection, joins, reconnects), SceneChoice (the track raced on),
+// (connection, joins, reconnects), SceneChoice (the track raced on, and
+// TrackDownload: a track the client lacks, fetched from the server),
 // ClientClock (the lead over the server), Predictor (prediction and
 // reconciliation), SnapshotStore (received worlds, acknowledgements) and
 // Interpolator (where cars are drawn).
@@ -19,6 +26,7 @@
 #include "jetrace/client/predictor.hpp"
 #include "jetrace/client/scene_choice.hpp"
 #include "jetrace/client/snapshot_store.hpp"
+#include "jetrace/client/track_download.hpp"
 #include "jetrace/net/transport.hpp"
 #include "jetrace/proto/messages.hpp"
 #include "jetrace/world.hpp"
@@ -85,12 +93,17 @@ public:
     /// Goodbye: 1000-1999 or 4000-4999) or the client's own (3000-3999);
     /// proto::CloseCode, docs/PROTOCOL.md "Close codes". 0 while open.
     std::uint16_t close_code() const { return link_.close_code(); }
+    /// The own car's slot (-1: none yet, or an observer).
     int slot() const { return slot_; }
     bool spectating() const { return spectating_; }
+    /// Welcomed as an observer (ClientConfig::observe): no car, no inputs.
+    bool observer() const { return observer_; }
+    /// Fetching the server's track (welcomed; snapshots wait for it).
+    bool downloading_track() const { return download_.active(); }
     std::uint32_t race_number() const { return race_number_; }
     proto::RacePhase phase() const { return phase_; }
     /// The predicted world at predicted_tick() (thin: the newest snapshot's
-    /// cars at the clock's tick).
+    /// cars at the clock's tick; an observer predicts nothing: empty).
     const WorldState& predicted() const { return predictor_.world(); }
     std::uint32_t predicted_tick() const { return predictor_.world().tick; }
     /// The newest authoritative world from a snapshot.
@@ -114,12 +127,31 @@ public:
     /// snapshots around the render tick, which trails the newest snapshot by
     /// interpolation_snapshots snapshot intervals (never extrapolated).
     Vec3 visual_position(int slot) const { return interpolator_.other(snapshots_, slot, now_us_, clock_.period_us()); }
+    /// The render tick now (the tick visual_position() draws; fractional,
+    /// unit: ticks; 0 before the first snapshot).
+    double render_tick() const { return interpolator_.render_tick(snapshots_, now_us_, clock_.period_us()); }
+    /// The world to draw now: every car at the render tick, interpolated as
+    /// visual_position() is (velocity alike, orientation normalised
+    /// linearly), the other car fields from the snapshot at or before it;
+    /// start_tick, laps and the cars no stored snapshot brackets as in the
+    /// newest snapshot (empty before the first). For drawing, never stepped.
+    WorldState render_world() const {
+        WorldState w;
+        interpolator_.world(snapshots_, now_us_, clock_.period_us(), w);
+        return w;
+    }
 
 private:
     void init();
     void on_event(const net::Event& e);
     void on_message(const proto::Message& m);
     void on_welcome(const proto::Welcome& w);
+    /// The Welcome's track is known: races on it at the server's rates.
+    bool take_scene(const proto::Welcome& w);
+    /// Takes the slot (or the observer's place) of the Welcome.
+    void welcomed(const proto::Welcome& w);
+    void request_track();
+    void on_track_chunk(const proto::TrackChunk& c);
     void on_snapshot(const proto::Snapshot& s);
     /// Starts the prediction from the newest snapshot, ahead by the lead.
     void start_world();
@@ -128,6 +160,8 @@ private:
     void reconcile(const proto::WorldSnapshot& snap);
     void run_tick(const InputSource& input);
     void send_inputs();
+    /// An observer's update: acknowledges the newest snapshot.
+    void observe();
 
     ClientConfig config_;
     SceneChoice scenes_;
@@ -139,6 +173,9 @@ private:
 
     int slot_ = -1;
     bool spectating_ = false;
+    bool observer_ = false;
+    /// An observer has a newer snapshot to acknowledge.
+    bool ack_pending_ = false;
     proto::RacePhase phase_ = proto::RacePhase::lobby;
     std::uint32_t race_number_ = 0;
     std::uint32_t races_finished_ = 0;
@@ -156,6 +193,9 @@ private:
     std::int16_t pending_margin_ticks_ = 0;
     ClientStats stats_;
     std::vector<net::Event> events_;
+    TrackDownload download_;
+    /// The Welcome whose track is being downloaded.
+    proto::Welcome download_welcome_;
 };
 
 }  // namespace jetrace::client

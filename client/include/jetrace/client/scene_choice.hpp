@@ -29,6 +29,10 @@ public:
     /// Races on the scene for `w` from now on; false with `why` if there is
     /// none (the current one stays). `changed`: another scene than before.
     bool choose(const proto::Welcome& w, bool& changed, std::string& why);
+    /// Whether a known scene has a track of this identity.
+    bool knows(std::uint64_t track_identity) const;
+    /// Knows `scene` from now on (a track downloaded from the server).
+    void add(std::unique_ptr<Scene> scene);
 
 private:
     /// The scene for `w`, or nullptr with `why`.
@@ -37,6 +41,7 @@ private:
     std::string name_;
     KnownScenes scenes_;
     std::vector<std::uint64_t> identities_;  // Track::identity() of each
+    std::vector<std::unique_ptr<Scene>> downloaded_;  // add()ed: in scenes_ too
     const Scene* current_ = nullptr;
     /// A known scene rebuilt with the server's physics settings (Welcome),
     /// if they differ from the known scene's.

@@ -32,6 +32,9 @@ enum class CloseCode : std::uint16_t {
     local_no_welcome = 3002,
     /// The connection could not be made, or dropped and could not be made again.
     local_connection_lost = 3003,
+    /// The server's track download was malformed, oversized, out of order,
+    /// or not the track its Welcome named.
+    local_bad_track = 3004,
 
     // 2000-2999: the server refused the Hello (the client may not just retry).
     refused_version = 2000,
@@ -42,6 +45,8 @@ enum class CloseCode : std::uint16_t {
     refused_draining = 2005,
     /// A fleet server that Agones has not allocated to a race yet.
     refused_unallocated = 2006,
+    /// Every observer place is taken (--max-observers).
+    refused_observers_full = 2007,
 
     // 4000-4999: the peer broke the protocol or went quiet.
     /// No Hello within the hello timeout: nothing was admitted, the client

@@ -18,7 +18,7 @@
 
 namespace jetrace::proto {
 
-inline constexpr std::uint16_t kProtocolVersion = 4;
+inline constexpr std::uint16_t kProtocolVersion = 5;
 /// Larger datagrams are rejected before parsing (unit: bytes).
 inline constexpr std::size_t kMaxMessageBytes = 8192;
 /// Longest Snapshot payload (unit: bytes): room left for the flatbuffers
@@ -43,6 +43,12 @@ inline constexpr std::size_t kTokenBytes = 16;
 /// Longest connect token in Hello (unit: bytes; its layout is checked by
 /// jetrace::auth::parse_connect_token, not here).
 inline constexpr std::size_t kMaxConnectTokenBytes = 256;
+/// Largest track file a Welcome may announce (Welcome.track_bytes; unit:
+/// bytes). A client's own cap (ClientConfig::max_track_bytes) may be lower.
+inline constexpr std::uint32_t kMaxTrackBytes = 64u << 20;
+/// Most track bytes one TrackChunk carries (unit: bytes): the server sends
+/// exactly this many but in the last chunk.
+inline constexpr std::size_t kTrackChunkBytes = 6144;
 /// "No baseline": the snapshot is encoded against nothing.
 inline constexpr std::uint32_t kNoTick = 0xFFFFFFFFu;
 /// A Snapshot's baseline is less than this many ticks older than it: the
@@ -62,6 +68,9 @@ struct Hello {
     /// Empty, or a signed connect token for a private race (at most
     /// kMaxConnectTokenBytes; docs/PROTOCOL.md, "Connect tokens").
     std::vector<std::uint8_t> connect_token;
+    /// Join as an observer: no car and no slot, snapshots and results only
+    /// (docs/PROTOCOL.md, "Observers").
+    bool observe = false;
 };
 
 /// Server -> client, reliable: accepted.
@@ -80,6 +89,13 @@ struct Welcome {
     /// The server's physics settings (physics_hash(physics) == physics_hash
     /// from a server built with the same core; absent from older servers).
     std::optional<PhysicsSettings> physics;
+    /// Welcomed as an observer: `slot` means nothing (sent as 0) and there
+    /// is no reconnect token.
+    bool observer = false;
+    /// Size of the server's track as a compiled .jtrack file, which a client
+    /// without the track downloads with TrackRequest (0: a built-in track;
+    /// at most kMaxTrackBytes; unit: bytes).
+    std::uint32_t track_bytes = 0;
 };
 
 /// Server -> client, reliable: not accepted (then disconnected).
@@ -154,7 +170,30 @@ struct Goodbye {
     std::uint16_t code = 0;
 };
 
-using Message = std::variant<Hello, Welcome, Refuse, InputBatch, Snapshot, RaceStatus, Results, Goodbye>;
+/// Client -> server, unreliable: the newest snapshot the client decoded,
+/// for a client that sends no inputs (an observer); a player's InputBatch
+/// carries the same acknowledgement.
+struct SnapshotAck {
+    /// Newest snapshot tick the client has received (kNoTick: none yet).
+    std::uint32_t ack_snapshot_tick = kNoTick;
+};
+
+/// Client -> server, reliable: asks for the server's track file from
+/// `offset` (answered by one TrackChunk).
+struct TrackRequest {
+    /// Below Welcome.track_bytes (unit: bytes).
+    std::uint32_t offset = 0;
+};
+
+/// Server -> client, reliable: the track file's bytes from `offset`.
+struct TrackChunk {
+    std::uint32_t offset = 0;
+    /// 1..kTrackChunkBytes bytes (offset + size at most kMaxTrackBytes).
+    std::vector<std::uint8_t> bytes;
+};
+
+using Message = std::variant<Hello, Welcome, Refuse, InputBatch, Snapshot, RaceStatus, Results, Goodbye, SnapshotAck,
+                             TrackRequest, TrackChunk>;
 
 /// Serialises a message. Asserts on programmer errors (fields out of range).
 std::vector<std::uint8_t> encode(const Message& m);

@@ -25,10 +25,12 @@ enum class Refusal : std::uint8_t {
     reconnect,
     /// The server is draining: it finishes the race under way and takes no one new.
     draining,
+    /// Every observer place is taken.
+    observers_full,
     count,
 };
 inline constexpr std::array<std::string_view, static_cast<std::size_t>(Refusal::count)> kRefusalNames{
-    "version", "token", "clock", "full", "reconnect", "draining"};
+    "version", "token", "clock", "full", "reconnect", "draining", "observers_full"};
 
 /// Why a connection was dropped by the server (a bounded set: metric labels).
 enum class DropReason : std::uint8_t {

@@ -35,6 +35,9 @@ struct ServerConfig {
     int laps = 3;
     /// Most cars in a race (unit: players).
     int max_players = 8;
+    /// Most observers (clients without a car that watch: Hello.observe) at
+    /// a time, on top of the players (unit: observers).
+    int max_observers = 8;
     /// Players needed before the countdown starts (unit: players).
     int min_players = 1;
     /// Snapshots sent per second; must divide the tick rate (unit: Hz;
@@ -87,6 +90,7 @@ struct ServerConfig {
 struct ServerLimits {
     static constexpr ValueRange laps = closed(1, 1000);
     static constexpr ValueRange players = closed(1, proto::kMaxSlots);
+    static constexpr ValueRange observers = closed(0, 1000);
     static constexpr ValueRange races = closed(0, 1e6);
     static constexpr ValueRange countdown_s = closed(0, 600);
     static constexpr ValueRange results_pause_s = closed(0, 600);
@@ -106,6 +110,11 @@ int default_snapshot_rate(int tick_rate_hz);
 
 /// Empty if usable, else what is wrong.
 std::string validate(const ServerConfig& c, int tick_rate_hz);
+
+/// What clients download of `track`: its compiled .jtrack bytes, or nothing
+/// for a built-in track (same name and identity as the one this build
+/// makes), which every client has.
+std::vector<std::uint8_t> track_file_of(const Track& track);
 
 /// A player who had a car at the race's start.
 struct Racer {
@@ -163,7 +172,10 @@ public:
     /// already held its cap of connections without a Hello (unit: datagrams;
     /// net::Totals::connects_refused).
     std::uint64_t refused_pre_hello() const { return transport_.totals().connects_refused; }
+    /// Welcomed players (connected, spectating ones included; no observers).
     int players() const;
+    /// Welcomed observers.
+    int observers() const { return sessions_.observers(); }
     /// Slots held for players who dropped, waiting for their reconnect.
     int held_slots() const { return static_cast<int>(sessions_.held().size()); }
     /// The race under way or last run (0 before the first).
@@ -172,6 +184,8 @@ public:
     RaceCounters counters() const;
     /// Every player, connected or held, by slot.
     std::vector<PlayerStatus> player_status() const;
+    /// The track file clients download (empty: a built-in track).
+    const std::vector<std::uint8_t>& track_file() const { return track_file_; }
 
     /// Called at the end of every race that started (the caller writes the
     /// results file: the library does no file I/O).
@@ -188,13 +202,26 @@ private:
     /// occurrence of each kind per client is logged (a flood never floods the
     /// log). Inputs too far ahead are also what an honest client sends for
     /// the previous race until it sees the new one, hence only info.
-    enum Anomaly : std::uint8_t { kConflictingInput = 1, kInputTooFarAhead = 2, kInputWhileSpectating = 4 };
+    enum Anomaly : std::uint8_t {
+        kConflictingInput = 1,
+        kInputTooFarAhead = 2,
+        kInputWhileSpectating = 4,
+        kInputFromObserver = 8,
+    };
     void note(Client& c, Anomaly kind, const std::string& what);
 
     void on_event(const net::Event& e);
     void on_message(Client& c, const proto::Message& m);
     void on_hello(Client& c, const proto::Hello& h);
+    /// Checks a Hello's connect token in a private race (refusing it if it
+    /// does not hold); `ticket` is then the token to admit.
+    bool check_connect_token(Client& c, const proto::Hello& h, std::optional<auth::ConnectToken>& ticket);
+    void welcome_observer(Client& c, const proto::Hello& h);
     void on_inputs(Client& c, const proto::InputBatch& b);
+    /// Answers a TrackRequest with one TrackChunk (server/src/track_serve.cpp).
+    void on_track_request(Client& c, const proto::TrackRequest& r);
+    /// Takes a snapshot acknowledgement (InputBatch or SnapshotAck).
+    void take_ack(Client& c, std::uint32_t ack_snapshot_tick);
     void drop(net::PeerId peer, DropReason why, const std::string& reason);
     void refuse(Client& c, const std::string& name, Refusal why, const std::string& reason);
     void send_welcome(Client& c);
@@ -207,6 +234,7 @@ private:
     void expire_held();
     void on_reconnect(Client& c, const proto::Hello& h);
     void send(net::PeerId peer, net::Channel ch, const proto::Message& m);
+    proto::RaceStatus status() const;
     void broadcast_status();
 
     void tick();
@@ -230,6 +258,9 @@ private:
     std::uint64_t now_us_ = 0;
 
     SessionTable sessions_;
+    /// The track as a compiled .jtrack file, for clients that download it
+    /// (empty: a built-in track, which every client has).
+    std::vector<std::uint8_t> track_file_;
     std::unique_ptr<auth::TokenVerifier> verifier_;  // private races only
     std::int64_t unix_time_s_ = -1;                  // -1: not set
 

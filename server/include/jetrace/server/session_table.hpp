@@ -30,9 +30,14 @@ struct Client {
     ReconnectToken reconnect_token{};
     int slot = -1;
     bool spectating = false;
+    /// Welcomed as an observer (Hello.observe): no slot (-1), no car, no
+    /// reconnect token; it gets snapshots, RaceStatus and Results.
+    bool observer = false;
     std::uint64_t connected_us = 0;
     InputQueue inputs;
     std::uint32_t acked_snapshot = proto::kNoTick;
+    /// Track file bytes sent to this connection (TrackChunk; unit: bytes).
+    std::uint64_t track_bytes_sent = 0;
     /// Anomalies already logged for this client (bits of RaceServer's Anomaly).
     std::uint8_t logged_anomalies = 0;
     /// What a new race or a new connection starts without: inputs and
@@ -62,9 +67,12 @@ public:
     const std::map<net::PeerId, Client>& clients() const { return clients_; }
     /// Ordered by peer: deterministic iteration.
     std::map<net::PeerId, Client>& clients() { return clients_; }
-    /// Greeted clients (connected players and spectators).
+    /// Greeted clients but observers (connected players and spectators).
     int players() const;
-    std::vector<net::PeerId> greeted_peers() const;
+    /// Greeted observers.
+    int observers() const;
+    /// Greeted clients but observers.
+    std::vector<net::PeerId> player_peers() const;
     /// Connections without a Hello for more than `timeout_us` by `now_us`.
     std::vector<net::PeerId> silent(std::uint64_t now_us, std::uint64_t timeout_us) const;
 

@@ -29,6 +29,8 @@ struct MetricsSample {
     /// Ticks stepped since start (unit: ticks).
     std::uint64_t server_ticks = 0;
     std::vector<server::PlayerStatus> players;
+    /// Connected observers (unit: clients).
+    int observers = 0;
     server::RaceCounters counters;
     /// Replays whose writing failed, and the bytes of every replay so far
     /// (jetrace-server's ReplayRecorder; 0 without --record).
