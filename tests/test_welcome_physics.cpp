@@ -93,4 +93,4 @@ TEST(WelcomePhysics, RejectsSettingsTheCoreCannotStep) {
         << error;
 }
 
-TEST(WelcomePhysics, ProtocolVersionIsFour) { EXPECT_EQ(jp::kProtocolVersion, 4); }
+TEST(WelcomePhysics, ProtocolVersionIsFive) { EXPECT_EQ(jp::kProtocolVersion, 5); }
