@@ -99,6 +99,12 @@ void RaceClient::on_snapshot(const proto::Snapshot& s) {
     reconcile_pending_ = true;
     pending_phase_ = s.phase;
     pending_margin_ticks_ = s.input_margin_ticks;
+    // The server stepped the tick before this one without our input.
+    if (!spectating_ && s.phase == proto::RacePhase::racing && s.last_applied_input_tick != proto::kNoTick &&
+        s.last_applied_input_tick + 1 < s.server_tick) {
+        ++stats_.late_inputs;
+        pending_late_ = true;
+    }
 }
 
 void RaceClient::start_world() {
@@ -172,10 +178,12 @@ void RaceClient::update(std::uint64_t now_us, const InputSource& input) {
     }
     if (reconcile_pending_ && have_world_ && link_.state() == LinkState::racing && slot_ >= 0) {
         reconcile(snapshots_.latest());
-        clock_.adjust(pending_phase_, pending_margin_ticks_, link_.rtt_variance_ms());
+        clock_.adjust(pending_phase_, pending_margin_ticks_, link_.rtt_variance_ms(), pending_late_);
         stats_.clock_resyncs = clock_.resyncs();
+        stats_.late_allowance_ticks = clock_.late_allowance_ticks();
     }
     reconcile_pending_ = false;
+    pending_late_ = false;
     link_.check_welcome_timeout();
     if (link_.state() != LinkState::racing || !have_world_ || slot_ < 0) return link_.flush();
     clock_.skip_backlog(now_us);
