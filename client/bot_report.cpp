@@ -66,7 +66,6 @@ bool print_bot_line(const client::RaceClient& c, const std::string& name, bool s
     j["rtt_ms"] = c.rtt_ms();
     j["reconnects"] = c.stats().reconnects;
     j["late_inputs"] = c.stats().late_inputs;
-    j["late_allowance_ticks"] = c.stats().late_allowance_ticks;
     j["replayed_ticks"] = c.stats().replayed_ticks;
     j["skipped_replays"] = c.stats().skipped_replays;
     j["reused_car_steps"] = c.stats().reused_car_steps;

@@ -122,7 +122,6 @@ jq -s -c --argjson bots "$bots" --argjson servers "$servers" --arg track "$track
     corrections: map(.corrections) | add,
     max_correction_m: map(.max_correction_m) | max,
     late_inputs: map(.late_inputs // 0) | add,
-    late_allowance_ticks_max: map(.late_allowance_ticks // 0) | max,
     reconnects: map(.reconnects) | add,
     replayed_ticks_per_bot: mean(.replayed_ticks // 0),
     skipped_replays_per_bot: mean(.skipped_replays // 0),

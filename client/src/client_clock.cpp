@@ -15,13 +15,6 @@ constexpr double kMaxJumpTicks = 30.0;
 constexpr double kJumpBehindTicks = 6.0;
 /// Rate adjustment per tick of margin error (unit: fraction/tick).
 constexpr double kAdjustPerTick = 0.01;
-/// Margin added per snapshot showing a late input, and the most added
-/// (unit: ticks).
-constexpr double kLateStepTicks = 1.0;
-constexpr double kMaxLateAllowanceTicks = 12.0;
-/// The late allowance decays by this per snapshot with no late input: a tick
-/// in 600 snapshots, 10 s at 60 Hz (unit: ticks).
-constexpr double kLateDecayTicks = 1.0 / 600.0;
 
 }  // namespace
 
@@ -42,13 +35,11 @@ void ClientClock::resync(std::uint64_t now_us) {
     clock_.restart(now_us);
 }
 
-void ClientClock::adjust(proto::RacePhase phase, std::int16_t input_margin_ticks, double rtt_variance_ms, bool late) {
+void ClientClock::adjust(proto::RacePhase phase, std::int16_t input_margin_ticks, double rtt_variance_ms) {
     if (phase != proto::RacePhase::countdown && phase != proto::RacePhase::racing) return;
     if (input_margin_ticks == kNoMargin) return;
-    late_allowance_ = late ? std::min(late_allowance_ + kLateStepTicks, kMaxLateAllowanceTicks)
-                           : std::max(late_allowance_ - kLateDecayTicks, 0.0);
     const double sigma_ticks = rtt_variance_ms * 1000.0 / clock_.period_us();
-    const double target = target_margin_ticks_ + jitter_margin_sigmas_ * sigma_ticks + late_allowance_;
+    const double target = target_margin_ticks_ + jitter_margin_sigmas_ * sigma_ticks;
     const double error = input_margin_ticks - target;
     if (error < -kJumpBehindTicks) {
         // Inputs arrive late: jump ahead rather than drift.

@@ -103,7 +103,6 @@ void RaceClient::on_snapshot(const proto::Snapshot& s) {
     if (!spectating_ && s.phase == proto::RacePhase::racing && s.last_applied_input_tick != proto::kNoTick &&
         s.last_applied_input_tick + 1 < s.server_tick) {
         ++stats_.late_inputs;
-        pending_late_ = true;
     }
 }
 
@@ -178,12 +177,10 @@ void RaceClient::update(std::uint64_t now_us, const InputSource& input) {
     }
     if (reconcile_pending_ && have_world_ && link_.state() == LinkState::racing && slot_ >= 0) {
         reconcile(snapshots_.latest());
-        clock_.adjust(pending_phase_, pending_margin_ticks_, link_.rtt_variance_ms(), pending_late_);
+        clock_.adjust(pending_phase_, pending_margin_ticks_, link_.rtt_variance_ms());
         stats_.clock_resyncs = clock_.resyncs();
-        stats_.late_allowance_ticks = clock_.late_allowance_ticks();
     }
     reconcile_pending_ = false;
-    pending_late_ = false;
     link_.check_welcome_timeout();
     if (link_.state() != LinkState::racing || !have_world_ || slot_ < 0) return link_.flush();
     clock_.skip_backlog(now_us);

@@ -2,10 +2,7 @@
 // server's, so that each input reaches the server a few ticks before the
 // server steps its tick. It starts ahead by the estimated lead, then drifts
 // (a rate adjustment) towards the margin the server reports, or jumps when
-// far behind (docs/PROTOCOL.md, "Timing and input flow"). Each snapshot
-// showing a tick the server stepped without the client's input adds a tick
-// to the margin aimed at (a machine or link that stalls now and then needs
-// more), which decays again while inputs arrive in time.
+// far behind (docs/PROTOCOL.md, "Timing and input flow").
 #pragma once
 
 #include "jetrace/client/client_config.hpp"
@@ -31,10 +28,7 @@ public:
     void resync(std::uint64_t now_us);
     /// Steers the lead by the server's input margin of a snapshot (only
     /// while the race counts down or runs, and once the server has inputs).
-    /// `late`: the snapshot shows a tick stepped without the client's input.
-    void adjust(proto::RacePhase phase, std::int16_t input_margin_ticks, double rtt_variance_ms, bool late = false);
-    /// The margin added for late inputs (unit: ticks).
-    double late_allowance_ticks() const { return late_allowance_; }
+    void adjust(proto::RacePhase phase, std::int16_t input_margin_ticks, double rtt_variance_ms);
     /// Forgets the rate adjustment.
     void reset() { adjust_ = 0; }
 
@@ -54,8 +48,6 @@ private:
     TickClock clock_{1e6 / 120};
     /// Rate adjustment: the period is scaled by 1 + adjust_ (unit: fraction).
     double adjust_ = 0;
-    /// Added to the target margin after late inputs (unit: ticks).
-    double late_allowance_ = 0;
     std::uint64_t resyncs_ = 0;
 };
 

@@ -44,8 +44,6 @@ struct ClientStats {
     /// Snapshots showing a tick the server stepped without this client's
     /// input (it arrived late or not at all).
     std::uint64_t late_inputs = 0;
-    /// The margin the clock adds for late inputs, now (unit: ticks).
-    double late_allowance_ticks = 0;
     /// Times the client got its slot back after a drop.
     std::uint64_t reconnects = 0;
     /// Ticks stepped again by reconciliations (only from the first tick
@@ -156,8 +154,6 @@ private:
     bool reconcile_pending_ = false;
     proto::RacePhase pending_phase_ = proto::RacePhase::lobby;
     std::int16_t pending_margin_ticks_ = 0;
-    /// A snapshot of this update showed a tick stepped without our input.
-    bool pending_late_ = false;
     ClientStats stats_;
     std::vector<net::Event> events_;
 };
