@@ -169,8 +169,14 @@ void RaceClient::send_inputs() {
 }
 
 void RaceClient::update(std::uint64_t now_us, const InputSource& input) {
+    receive(now_us);
+    run_due(now_us, input);
+}
+
+void RaceClient::receive(std::uint64_t now_us) {
     now_us_ = now_us;
-    if (!link_.poll(now_us, events_)) return;
+    polled_ = link_.poll(now_us, events_);
+    if (!polled_) return;
     for (const net::Event& e : events_) {
         on_event(e);
         if (link_.connection_due()) break;  // the rest came from the dead connection
@@ -182,6 +188,11 @@ void RaceClient::update(std::uint64_t now_us, const InputSource& input) {
     }
     reconcile_pending_ = false;
     link_.check_welcome_timeout();
+}
+
+void RaceClient::run_due(std::uint64_t now_us, const InputSource& input) {
+    now_us_ = now_us;
+    if (!polled_) return;
     if (link_.state() != LinkState::racing || !have_world_ || slot_ < 0) return link_.flush();
     clock_.skip_backlog(now_us);
     int ran = 0;
