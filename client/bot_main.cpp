@@ -87,12 +87,18 @@ bool run(const BotOptions& o, std::vector<Bot>& bots, Clock::time_point start) {
     std::size_t done = 0;
     while (done < bots.size()) {
         const std::uint64_t t = now_us();
+        // Every bot's due ticks and inputs first, then the network and the
+        // reconciliations: no input waits for the other bots' replays.
         for (Bot& b : bots) {
             if (b.done) continue;
             const auto skill = b.skill;
-            b.client->update(t, [&](const jetrace::Scene& sc, const jetrace::WorldState& w, int slot) {
+            b.client->run_due(t, [&](const jetrace::Scene& sc, const jetrace::WorldState& w, int slot) {
                 return jetrace::drive(sc, w, slot, skill);
             });
+        }
+        for (Bot& b : bots) {
+            if (b.done) continue;
+            b.client->receive(t);
             const bool finished_races = b.client->races_finished() >= static_cast<std::uint32_t>(o.races);
             if (finished_races) b.client->leave("done racing");
             if (finished_races || b.client->state() == ClientState::closed) {

@@ -70,6 +70,7 @@ bool print_bot_line(const client::RaceClient& c, const std::string& name, bool s
     j["snapshots"] = c.stats().snapshots;
     j["rtt_ms"] = c.rtt_ms();
     j["reconnects"] = c.stats().reconnects;
+    j["late_inputs"] = c.stats().late_inputs;
     j["replayed_ticks"] = c.stats().replayed_ticks;
     j["skipped_replays"] = c.stats().skipped_replays;
     j["reused_car_steps"] = c.stats().reused_car_steps;

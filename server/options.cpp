@@ -54,6 +54,10 @@ void add_race_options(CLI::App& app, HostOptions& o) {
     app.add_option("--hello-timeout", o.hello_timeout_s,
                    "drop a connection that has not said Hello after this long (s of real time, whatever --time-scale)")
         ->check(in_range(L::hello_timeout_s));
+    app.add_option("--linger", o.linger_s,
+                   "after the last race (or a stop), keep serving until every client has its Results and Goodbye "
+                   "or has left, at most this long (s of real time, whatever --time-scale; 0: exit at once)")
+        ->check(in_range(L::linger_s));
     app.add_option("--lobby-timeout", cfg.lobby_timeout_s,
                    "with 1 to --min-players - 1 players for this long, start anyway or cancel (s; 0: wait forever)")
         ->check(in_range(L::lobby_timeout_s));
@@ -148,6 +152,14 @@ int parse_host_options(int argc, char** argv, HostOptions& o) {
         std::fprintf(stderr, "jetrace-server: --hello-timeout %g times --time-scale %g is %g s of the server's clock: "
                      "it must be in %s\n", o.hello_timeout_s, o.time_scale, o.cfg.hello_timeout_s,
                      ServerLimits::hello_timeout_s.text().c_str());
+        return 2;
+    }
+    // Delivery runs on the network's real time too.
+    o.cfg.linger_s = o.linger_s * o.time_scale;
+    if (!ServerLimits::linger_s.contains(o.cfg.linger_s)) {
+        std::fprintf(stderr, "jetrace-server: --linger %g times --time-scale %g is %g s of the server's clock: "
+                     "it must be in %s\n", o.linger_s, o.time_scale, o.cfg.linger_s,
+                     ServerLimits::linger_s.text().c_str());
         return 2;
     }
     jetrace::cli::log_to_stderr("server", o.log_level);

@@ -18,6 +18,8 @@ struct HostOptions {
     int tick_rate = 120;
     double time_scale = 1.0;
     double hello_timeout_s = 5.0;
+    /// --linger, real time (unit: s).
+    double linger_s = 5.0;
     double drain_timeout_s = 60.0;
     std::string lobby_timeout_action = "start";
     std::string key_file;

@@ -64,7 +64,10 @@ foreach(spec
     "unknown_lobby_action|--lobby-timeout;5;--lobby-timeout-action;wait|--lobby-timeout-action: wait not in"
     "cancel_without_lobby_timeout|--lobby-timeout-action;cancel|--lobby-timeout-action cancel needs --lobby-timeout"
     "nonce_file_without_key|--nonce-file;/tmp/jetrace-nonces|--nonce-file needs --key-file"
-    "bad_pre_hello_limit|--pre-hello-limit;5000|--pre-hello-limit: Value 5000 not in range")
+    "bad_pre_hello_limit|--pre-hello-limit;5000|--pre-hello-limit: Value 5000 not in range"
+    "nan_linger|--linger;nan|--linger: Value nan is not a finite number"
+    "negative_linger|--linger;-1|--linger: Value -1 not in range \\[0, 3600\\]"
+    "scaled_linger|--linger;100;--time-scale;100|--linger 100 times --time-scale 100 is 10000 s")
   string(REPLACE "|" ";" parts "${spec}")
   list(GET parts 0 name)
   list(GET parts -1 message)

@@ -179,3 +179,29 @@ TEST(Loopback, LongLatencyTheClientsClockDidNotExpect) {
     ASSERT_TRUE(o.server_done) << "the race did not end in time";
     for (std::size_t i = 0; i < o.finished.size(); ++i) EXPECT_TRUE(o.finished[i]) << "bot " << i << " did not finish";
 }
+
+TEST(Loopback, ResultsReachEveryClientBeforeTheServerExits) {
+    // jetrace-server exits once done(). Its Results and Goodbye leave behind
+    // 100 ms of latency (each way): done() must wait until every client has
+    // them (its connection closed), not turn true as the last race ends.
+    jetrace::net::Conditions c;
+    c.latency_ms = 100;
+    c.seed = 13;
+    jetrace::test::LiveRaceOptions o;
+    o.bots = 4;
+    o.conditions = &c;
+    o.record = false;
+    o.log_levels_from_env = true;
+    jetrace::test::LiveRace live(o);
+    ASSERT_TRUE(live.ok()) << live.error;
+    ASSERT_TRUE(live.run_until([&] { return live.server().done(); }, 300000)) << "the race did not end";
+    ASSERT_EQ(live.ends.size(), 1u);
+    live.close_server();
+    live.run_until([] { return false; }, 2000);
+    for (int i = 0; i < live.bots(); ++i) {
+        const auto& client = *live.bot(i).client;
+        EXPECT_EQ(client.results().race_number, 1u) << "bot " << i << " never got the Results";
+        EXPECT_EQ(client.close_code(), static_cast<std::uint16_t>(jetrace::proto::CloseCode::server_shutdown))
+            << "bot " << i << " lost the server instead of hearing its Goodbye: " << client.close_reason();
+    }
+}

@@ -3,7 +3,8 @@
 # --bots / --servers players) and ONE jetrace-bot process driving all the
 # bots (predicting, or --thin), waits for the race, and prints one JSON line:
 #   bots, finished (by the servers' results files; finished_seen_by_bots:
-#   by the Results the bots received), corrections, bot_cores (CPU time over wall time of the
+#   by the Results the bots received), corrections, late_inputs (snapshots
+#   showing a tick stepped without the bot's input), bot_cores (CPU time over wall time of the
 #   bot process), bot_cores_per_bot, server tick median / p99 (ms, the
 #   largest over the servers), bytes per client per simulated second each
 #   way (mean over the bots, ENet headers included) and in kbit/s.
@@ -13,13 +14,14 @@
 #                      [--time-scale X] [--thin] [--build DIR] [--keep DIR]
 #                      [--server BIN] [--bot BIN]   (default: under --build)
 #                      [--target-margin TICKS]      (jetrace-bot's, default 2)
+#                      [--finish-window S]          (the servers', default theirs: 60)
 # Exits non-zero if a process failed to start or the server failed; the
 # figures say how many bots finished (the caller decides what is enough).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 . "$root/tools/server_port.sh"
 
-margin=2 bots=8 servers=1 track=stadium laps=1 scale=1 thin="" build="$root/build" keep="" server="" bot=""
+finish_window="" margin=2 bots=8 servers=1 track=stadium laps=1 scale=1 thin="" build="$root/build" keep="" server="" bot=""
 usage() { sed -n '/^# Usage/,/^# Exits/p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 need() { [ $# -ge 2 ] || { echo "load.sh: $1 needs a value" >&2; exit 2; }; }
 while [ $# -gt 0 ]; do
@@ -35,6 +37,7 @@ while [ $# -gt 0 ]; do
     --server) need "$@"; server="$2"; shift 2 ;;
     --bot) need "$@"; bot="$2"; shift 2 ;;
     --target-margin) need "$@"; margin="$2"; shift 2 ;;
+    --finish-window) need "$@"; finish_window="$2"; shift 2 ;;
     -h|--help) usage ;;
     *) echo "load.sh: unknown argument '$1'" >&2; usage ;;
   esac
@@ -48,6 +51,8 @@ per_server=$((bots / servers))
 is_int "$per_server" 1 64 || { echo "load.sh: at most 64 bots per server" >&2; exit 2; }
 [[ "$scale" =~ ^[0-9]+(\.[0-9]+)?$ ]] || { echo "load.sh: --time-scale must be a number" >&2; exit 2; }
 [[ "$margin" =~ ^[0-9]+(\.[0-9]+)?$ ]] || { echo "load.sh: --target-margin must be a number" >&2; exit 2; }
+[ -z "$finish_window" ] || [[ "$finish_window" =~ ^[0-9]+(\.[0-9]+)?$ ]] ||
+  { echo "load.sh: --finish-window must be a number of seconds" >&2; exit 2; }
 server="${server:-$build/server/jetrace-server}" bot="${bot:-$build/client/jetrace-bot}"
 for b in "$server" "$bot"; do
   [ -x "$b" ] || { echo "load.sh: $b is missing (build it first)" >&2; exit 2; }
@@ -63,11 +68,14 @@ cleanup() {
 trap cleanup EXIT
 
 connects=()
+window_arg=()
+[ -z "$finish_window" ] || window_arg=(--finish-window "$finish_window")
+window_s="${finish_window:-60}" window_s="${window_s%.*}"  # whole seconds, for the bots' --max-seconds
 for i in $(seq 1 "$servers"); do
   /usr/bin/time -f '%U %S %e' -o "$out/server$i.time" \
     "$server" --bind 127.0.0.1 --port 0 --track "$track" --laps "$laps" \
     --min-players "$per_server" --max-players "$per_server" --races 1 --time-scale "$scale" \
-    --pre-hello-limit 0 --results "$out/results$i.json" --log-level warn >"$out/server$i.log" 2>&1 &
+    --pre-hello-limit 0 "${window_arg[@]}" --results "$out/results$i.json" --log-level warn >"$out/server$i.log" 2>&1 &
   pids+=($!)
   port="$(server_port "$out/server$i.log")"
   connects+=(--connect "127.0.0.1:$port")
@@ -78,7 +86,7 @@ margin_arg=""
 rc=0
 /usr/bin/time -f '%U %S %e' -o "$out/bot.time" \
   "$bot" "${connects[@]}" --count "$bots" --time-scale "$scale" $margin_arg $thin \
-  --max-seconds "$(( (laps * 120 + 120) ))" >"$out/bots.json" 2>"$out/bots.err" || rc=$?
+  --max-seconds "$(( laps * 120 + 60 + window_s ))" >"$out/bots.json" 2>"$out/bots.err" || rc=$?
 # A server whose bots are gone ends its race and exits; one still waiting
 # for players after 30 s never got them all (see bots.err).
 for _ in $(seq 1 300); do
@@ -100,18 +108,20 @@ cat "$out"/server*.log | grep '^{' >"$out/servers.json" || true
 cat "$out"/results*.json >"$out/results.json" 2>/dev/null || true
 read -r bot_user bot_sys bot_wall < <(tail -n 1 "$out/bot.time") 2>/dev/null || { echo "load.sh: no bot timing" >&2; exit 1; }
 jq -s -c --argjson bots "$bots" --argjson servers "$servers" --arg track "$track" --argjson laps "$laps" \
-  --argjson scale "$scale" --argjson margin "$margin" --arg mode "${thin:+thin}" --argjson cpu "$(awk -v u="$bot_user" -v s="$bot_sys" 'BEGIN { print u + s }')" \
+  --argjson scale "$scale" --argjson margin "$margin" --arg window "$finish_window" --arg mode "${thin:+thin}" --argjson cpu "$(awk -v u="$bot_user" -v s="$bot_sys" 'BEGIN { print u + s }')" \
   --argjson wall "$bot_wall" --slurpfile srv "$out/servers.json" --slurpfile res "$out/results.json" '
   def mean(f): if length == 0 then 0 else (map(f) | add / length) end;
   {
     mode: (if $mode == "thin" then "thin" else "predicting" end),
     track: $track, laps: $laps, time_scale: $scale, servers: $servers, target_margin_ticks: $margin,
+    finish_window_s: (if $window == "" then 60 else ($window | tonumber) end),
     bots: $bots,
     bot_lines: length,
     finished: ($res | map(.standings[] | select(.finished)) | length),
     finished_seen_by_bots: map(select(.finished)) | length,
     corrections: map(.corrections) | add,
     max_correction_m: map(.max_correction_m) | max,
+    late_inputs: map(.late_inputs // 0) | add,
     reconnects: map(.reconnects) | add,
     replayed_ticks_per_bot: mean(.replayed_ticks // 0),
     skipped_replays_per_bot: mean(.skipped_replays // 0),

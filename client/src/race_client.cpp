@@ -158,6 +158,11 @@ void RaceClient::on_snapshot(const proto::Snapshot& s) {
     reconcile_pending_ = true;
     pending_phase_ = s.phase;
     pending_margin_ticks_ = s.input_margin_ticks;
+    // The server stepped the tick before this one without our input.
+    if (!spectating_ && s.phase == proto::RacePhase::racing && s.last_applied_input_tick != proto::kNoTick &&
+        s.last_applied_input_tick + 1 < s.server_tick) {
+        ++stats_.late_inputs;
+    }
 }
 
 void RaceClient::start_world() {
@@ -223,8 +228,14 @@ void RaceClient::send_inputs() {
 }
 
 void RaceClient::update(std::uint64_t now_us, const InputSource& input) {
+    receive(now_us);
+    run_due(now_us, input);
+}
+
+void RaceClient::receive(std::uint64_t now_us) {
     now_us_ = now_us;
-    if (!link_.poll(now_us, events_)) return;
+    polled_ = link_.poll(now_us, events_);
+    if (!polled_) return;
     for (const net::Event& e : events_) {
         on_event(e);
         if (link_.connection_due()) break;  // the rest came from the dead connection
@@ -236,6 +247,11 @@ void RaceClient::update(std::uint64_t now_us, const InputSource& input) {
     }
     reconcile_pending_ = false;
     link_.check_welcome_timeout();
+}
+
+void RaceClient::run_due(std::uint64_t now_us, const InputSource& input) {
+    now_us_ = now_us;
+    if (!polled_) return;
     if (observer_) return observe();
     if (link_.state() != LinkState::racing || !have_world_ || slot_ < 0) return link_.flush();
     clock_.skip_backlog(now_us);

@@ -2,13 +2,15 @@
 // enforces are listed in docs/PROTOCOL.md, sections "Messages" and
 // "Validation"; encode() asserts the same rules, so whatever it produces
 // decodes. InputBatch and Snapshot, the two messages sent many times a
-// second, pack their fields into one bit-packed [ubyte] payload.
+// second, are no flatbuffers: 8 bytes (4 zero bytes, the identifier) and a
+// bit-packed payload (packed_message()).
 #include "jetrace/proto/messages.hpp"
 
 #include "jetrace_generated.h"
 #include "packed_payloads.hpp"
 #include "physics_wire.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cassert>
 #include <cmath>
@@ -176,6 +178,20 @@ std::vector<std::uint8_t> finish(fb::FlatBufferBuilder& b, fb::Offset<typename W
     return {p, p + size};
 }
 
+/// InputBatch and Snapshot, sent tens of times a second, are no flatbuffer:
+/// 4 zero bytes (never a flatbuffer's root offset), the identifier, then the
+/// bit-packed payload.
+constexpr std::size_t kPackedHeaderBytes = 8;
+
+template <typename M>
+std::vector<std::uint8_t> packed_message(const std::vector<std::uint8_t>& payload) {
+    std::vector<std::uint8_t> out(kPackedHeaderBytes + payload.size(), 0);
+    std::memcpy(out.data() + sizeof(fb::uoffset_t), Wire<M>::kId, fb::kFileIdentifierLength);
+    std::copy(payload.begin(), payload.end(), out.begin() + kPackedHeaderBytes);
+    assert(out.size() <= kMaxMessageBytes && "encode: message too large");
+    return out;
+}
+
 /// Hello and Refuse: an Envelope exactly as protocol version 1 built it,
 /// padding included (version 1 requires a length that is a multiple of 4).
 std::vector<std::uint8_t> finish_envelope(fb::FlatBufferBuilder& b, w::Handshake type, fb::Offset<void> body) {
@@ -212,12 +228,8 @@ struct Encoder {
         assert_text(m.reason, kMaxReasonBytes);
         return finish_envelope(b, w::Handshake_Refuse, w::CreateRefuse(b, b.CreateString(m.reason), m.code).Union());
     }
-    std::vector<std::uint8_t> operator()(const InputBatch& m) const {
-        return finish<InputBatch>(b, w::CreateInputBatch(b, b.CreateVector(packed::pack(m))));
-    }
-    std::vector<std::uint8_t> operator()(const Snapshot& m) const {
-        return finish<Snapshot>(b, w::CreateSnapshot(b, b.CreateVector(packed::pack(m))));
-    }
+    std::vector<std::uint8_t> operator()(const InputBatch& m) const { return packed_message<InputBatch>(packed::pack(m)); }
+    std::vector<std::uint8_t> operator()(const Snapshot& m) const { return packed_message<Snapshot>(packed::pack(m)); }
     std::vector<std::uint8_t> operator()(const RaceStatus& m) const {
         assert(m.players.size() <= static_cast<std::size_t>(kMaxSlots) && m.laps >= 1);
         std::vector<fb::Offset<w::PlayerInfo>> players;
@@ -315,21 +327,17 @@ bool decode_body(const w::Refuse& t, Message& out, Check& c) {
     return true;
 }
 
-bool decode_body(const w::InputBatch& t, Message& out, Check& c) {
-    const auto* payload = t.payload();
-    if (!payload) return c.fail("InputBatch.payload", "missing");
-    InputBatch m;
-    if (!packed::unpack({payload->data(), payload->size()}, m, c.error())) return false;
-    out = std::move(m);
-    return true;
-}
-
-bool decode_body(const w::Snapshot& t, Message& out, Check& c) {
-    const auto* payload = t.payload();
-    if (!payload) return c.fail("Snapshot.payload", "missing");
-    if (payload->size() > kMaxSnapshotPayloadBytes) return c.fail("Snapshot.payload", "too long");
-    Snapshot m;
-    if (!packed::unpack({payload->data(), payload->size()}, m, c.error())) return false;
+/// A packed message (see packed_message()): InputBatch or Snapshot.
+template <typename M>
+bool decode_packed(const std::uint8_t* data, std::size_t size, Message& out, Check& c) {
+    const char* const what = std::is_same_v<M, Snapshot> ? "Snapshot.payload" : "InputBatch.payload";
+    for (std::size_t i = 0; i < sizeof(fb::uoffset_t); ++i)
+        if (data[i] != 0) return c.fail("message", "a packed message starts with 4 zero bytes");
+    if (size <= kPackedHeaderBytes) return c.fail(what, "missing");
+    const std::span<const std::uint8_t> payload(data + kPackedHeaderBytes, size - kPackedHeaderBytes);
+    if (std::is_same_v<M, Snapshot> && payload.size() > kMaxSnapshotPayloadBytes) return c.fail(what, "too long");
+    M m;
+    if (!packed::unpack(payload, m, c.error())) return false;
     out = std::move(m);
     return true;
 }
@@ -455,9 +463,16 @@ constexpr Kind kind() {
 }
 /// Every identifier: the Envelope's ("JTR1", the schema's file_identifier)
 /// for Hello and Refuse, then one per other message.
-constexpr Kind kKinds[] = {{"JTR1", decode_envelope}, kind<Welcome>(), kind<InputBatch>(), kind<Snapshot>(),
-                           kind<RaceStatus>(),        kind<Results>(), kind<Goodbye>(),  kind<SnapshotAck>(),
-                           kind<TrackRequest>(),      kind<TrackChunk>()};
+constexpr Kind kKinds[] = {{"JTR1", decode_envelope},
+                           kind<Welcome>(),
+                           {Wire<InputBatch>::kId, decode_packed<InputBatch>},
+                           {Wire<Snapshot>::kId, decode_packed<Snapshot>},
+                           kind<RaceStatus>(),
+                           kind<Results>(),
+                           kind<Goodbye>(),
+                           kind<SnapshotAck>(),
+                           kind<TrackRequest>(),
+                           kind<TrackChunk>()};
 static_assert(std::size(kKinds) == std::variant_size_v<Message> - 1);
 
 }  // namespace

@@ -53,6 +53,11 @@ void RaceServer::cancel_lobby(const std::string& reason) {
 
 void RaceServer::drain(const std::string& reason, double timeout_s) {
     if (done_) return;
+    if (shutting_down_) {
+        spdlog::info("{}: stopping at once ({} connections still open)", reason, sessions_.clients().size());
+        done_ = true;
+        return;
+    }
     const bool under_way = phase_ == proto::RacePhase::countdown || phase_ == proto::RacePhase::racing;
     if (draining_ || !under_way) {
         shutdown(draining_ ? reason + " (again: stopping at once)" : reason);
@@ -95,7 +100,6 @@ void RaceServer::shutdown(const std::string& reason) {
         observe_end(replay::EndReason::aborted, state_hash(world_));
         phase_ = proto::RacePhase::lobby;
     }
-    done_ = true;
     if (observer) observer->stopped();
     for (const auto& [peer, c] : sessions_.clients()) {
         send(peer, net::Channel::reliable,
@@ -103,7 +107,20 @@ void RaceServer::shutdown(const std::string& reason) {
         transport_.disconnect(peer);
     }
     transport_.flush();
+    linger_until_us_ = now_us_ + static_cast<std::uint64_t>(config_.linger_s * 1e6);
     spdlog::info("server shutting down: {}", reason);
+    check_linger();
+}
+
+void RaceServer::check_linger() {
+    if (!shutting_down_ || done_) return;
+    // Each connection closes once ENet has delivered what was queued for it
+    // (the Results, the Goodbye), or on the client's own Goodbye.
+    const std::size_t open = sessions_.clients().size();
+    if (open > 0 && now_us_ < linger_until_us_) return;
+    if (open > 0)
+        spdlog::warn("{} connections still open after the {:g} s linger: closing them", open, config_.linger_s);
+    done_ = true;
 }
 
 }  // namespace jetrace::server

@@ -85,6 +85,10 @@ void RaceServer::refuse(Client& c, const std::string& name, Refusal why, const s
 void RaceServer::on_event(const net::Event& e) {
     switch (e.type) {
         case net::Event::Type::connected:
+            if (shutting_down_) {
+                transport_.disconnect(e.peer);  // no more races here
+                break;
+            }
             sessions_.connect(e.peer, now_us_);
             spdlog::info("client {} connected", e.peer);
             break;
@@ -231,10 +235,11 @@ int RaceServer::update(std::uint64_t now_us) {
     }
     expire_held();
     check_drain();
+    check_linger();
 
     int stepped = 0;
     clock_.skip_backlog(now_us);
-    while (!done_ && clock_.pop(now_us)) {
+    while (!shutting_down_ && clock_.pop(now_us)) {
         tick();
         ++stepped;
     }

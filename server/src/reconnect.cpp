@@ -10,8 +10,14 @@ namespace jetrace::server {
 
 void RaceServer::release(Client&& c, bool may_return, std::string why) {
     if (c.slot < 0) return;
+    if (shutting_down_) {
+        // No race any more: nothing to hold, remove or tell the others.
+        sessions_.retire(c.reconnect_token, std::move(why));
+        sessions_.free_slot(c.slot);
+        return;
+    }
     const auto s = static_cast<std::size_t>(c.slot);
-    if (may_return && config_.reconnect_grace_s > 0 && !done_) {
+    if (may_return && config_.reconnect_grace_s > 0) {
         // Its car stays in the race (neutral inputs) and the slot stays
         // taken: only its reconnect token gets them back.
         spdlog::info("'{}' (slot {}) dropped: slot{} held {:.1f} s for a reconnect", c.name, c.slot,

@@ -34,6 +34,7 @@ std::string validate(const ServerConfig& c, int tick_rate_hz) {
     check(err, c.max_input_lead_ticks, L::max_input_lead_ticks, "max input lead", " ticks (the input ring's size, less one)");
     check(err, c.hello_timeout_s, L::hello_timeout_s, "hello timeout", " s");
     check(err, c.reconnect_grace_s, L::reconnect_grace_s, "reconnect grace", " s");
+    check(err, c.linger_s, L::linger_s, "linger", " s");
     if (c.race_id.size() > auth::kMaxRaceIdBytes || !proto::valid_text(c.race_id))
         err << "race id must be at most 64 bytes of UTF-8 text; ";
     check(err, static_cast<double>(c.max_connect_nonces), L::max_connect_nonces, "max connect nonces");

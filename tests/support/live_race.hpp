@@ -221,6 +221,13 @@ public:
         raws_.push_back(std::make_unique<RawClient>(std::move(t), why));
         return *raws_.back();
     }
+    /// The server process exits: the server and its transport are gone
+    /// (ENet tells the peers still connected at once), step() runs the
+    /// clients only; server() must not be called any more.
+    void close_server() {
+        server_.reset();
+        server_net_.reset();
+    }
     /// Bot i stops running (no updates: its ENet host falls silent).
     void freeze_bot(int i) { bots_[static_cast<std::size_t>(i)]->frozen = true; }
 
@@ -228,8 +235,12 @@ public:
     /// `paused`, every raw client.
     void step(const std::vector<const Bot*>& paused = {}) {
         now_us_ += 1000;
-        if (unix_s >= 0) server_->update(now_us_, unix_s);
-        else server_->update(now_us_);
+        if (!server_) {
+        } else if (unix_s >= 0) {
+            server_->update(now_us_, unix_s);
+        } else {
+            server_->update(now_us_);
+        }
         for (const auto& b : bots_) {
             if (b->frozen || std::find(paused.begin(), paused.end(), b.get()) != paused.end()) continue;
             const DriverSkill skill = b->skill;

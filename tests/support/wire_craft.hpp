@@ -5,6 +5,7 @@
 
 #include "jetrace_generated.h"
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <vector>
@@ -51,16 +52,22 @@ struct Bits {
     }
 };
 
+/// A packed message (InputBatch, Snapshot): 4 zero bytes, the identifier, the payload.
+inline std::vector<std::uint8_t> packed_message(const char* id, const std::vector<std::uint8_t>& payload) {
+    std::vector<std::uint8_t> out(8 + payload.size(), 0);
+    for (std::size_t i = 0; i < 4; ++i) out[4 + i] = static_cast<std::uint8_t>(id[i]);
+    std::copy(payload.begin(), payload.end(), out.begin() + 8);
+    return out;
+}
+
 /// An InputBatch message around a hand-made payload.
 inline std::vector<std::uint8_t> input_batch(const std::vector<std::uint8_t>& payload) {
-    fb::FlatBufferBuilder b;
-    return finish(b, w::CreateInputBatch(b, b.CreateVector(payload)), "JINP");
+    return packed_message("JINP", payload);
 }
 
 /// A Snapshot message around a hand-made payload.
 inline std::vector<std::uint8_t> snapshot_message(const std::vector<std::uint8_t>& payload) {
-    fb::FlatBufferBuilder b;
-    return finish(b, w::CreateSnapshot(b, b.CreateVector(payload)), "JSNP");
+    return packed_message("JSNP", payload);
 }
 
 }  // namespace jetrace::test

@@ -49,6 +49,9 @@ struct ClientStats {
     std::uint64_t snapshots_dropped = 0;
     /// Times the clock jumped instead of drifting to the right lead.
     std::uint64_t clock_resyncs = 0;
+    /// Snapshots showing a tick the server stepped without this client's
+    /// input (it arrived late or not at all).
+    std::uint64_t late_inputs = 0;
     /// Times the client got its slot back after a drop.
     std::uint64_t reconnects = 0;
     /// Ticks stepped again by reconciliations (only from the first tick
@@ -76,8 +79,16 @@ public:
     RaceClient(const ClientConfig& config, const Scene& scene, Connector connect)
         : RaceClient(config, KnownScenes{&scene}, std::move(connect)) {}
 
-    /// Handles the network and runs the prediction ticks due by `now_us`.
+    /// Handles the network and runs the prediction ticks due by `now_us`:
+    /// receive(), then run_due().
     void update(std::uint64_t now_us, const InputSource& input);
+    /// update()'s halves, for a caller driving many clients: receive()
+    /// handles the network (snapshots, their reconciliation: the costly
+    /// part), run_due() runs the ticks due and sends their inputs. Running
+    /// run_due() for every client before their receive() sends each input
+    /// without waiting for the other clients' reconciliations.
+    void receive(std::uint64_t now_us);
+    void run_due(std::uint64_t now_us, const InputSource& input);
     /// Says goodbye and closes.
     void leave(const std::string& reason, proto::CloseCode why = proto::CloseCode::local_left) {
         link_.leave(reason, why);
@@ -191,6 +202,8 @@ private:
     bool reconcile_pending_ = false;
     proto::RacePhase pending_phase_ = proto::RacePhase::lobby;
     std::int16_t pending_margin_ticks_ = 0;
+    /// The last receive() polled the link (false: closed, nothing to run).
+    bool polled_ = false;
     ClientStats stats_;
     std::vector<net::Event> events_;
     TrackDownload download_;

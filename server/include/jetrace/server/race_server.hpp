@@ -70,6 +70,12 @@ struct ServerConfig {
     /// its car (driven with neutral inputs), this long for a Hello with its
     /// reconnect token; 0 frees the slot at once (unit: s).
     double reconnect_grace_s = 10.0;
+    /// After the last race, or shutdown(), the server keeps serving its
+    /// connections until each has closed (its Results and Goodbye
+    /// acknowledged, or the client's own Goodbye), at most this long; 0:
+    /// done at once (unit: s of the caller's clock; jetrace-server scales its
+    /// --linger, given in real time, by --time-scale).
+    double linger_s = 5.0;
     /// Private race: only Hellos with a connect token signed by the secret
     /// half of this Ed25519 public key get in (unset = an open server).
     std::optional<auth::PublicKey> connect_key;
@@ -101,6 +107,7 @@ struct ServerLimits {
     static constexpr ValueRange lobby_timeout_s = closed(0, 86400);
     static constexpr ValueRange lobby_log_interval_s = above(0, 86400);
     static constexpr ValueRange reconnect_grace_s = closed(0, 3600);
+    static constexpr ValueRange linger_s = closed(0, 3600);
     static constexpr ValueRange max_connect_nonces = closed(1, 1e7);
 };
 
@@ -153,12 +160,14 @@ public:
     int update(std::uint64_t now_us, std::int64_t unix_time_s);
 
     /// Ends the race in progress at once (reported as aborted; a race still
-    /// in its countdown is not reported), tells every client why, and makes
-    /// done() true.
+    /// in its countdown is not reported), tells every client why, and stops
+    /// ticking; done() turns true once every connection has closed or after
+    /// ServerConfig::linger_s, whichever comes first.
     void shutdown(const std::string& reason);
     /// Lets the race under way finish within `timeout_s` (then it ends as
     /// drained), refusing new players meanwhile, then shuts down. With no
-    /// race under way it shuts down at once; a second call does too.
+    /// race under way it shuts down at once; a second call does too, and a
+    /// call during the linger after shutdown() makes done() true at once.
     void drain(const std::string& reason, double timeout_s);
     bool draining() const { return draining_; }
 
@@ -245,6 +254,8 @@ private:
     void lobby_tick();
     void cancel_lobby(const std::string& reason);
     void check_drain();
+    /// After shutdown(): done once no connection is left or the linger is over.
+    void check_linger();
     void observe_start();
     void observe_end(replay::EndReason reason, std::uint64_t hash);
     std::vector<proto::StandingEntry> current_standings() const;
@@ -288,6 +299,7 @@ private:
     bool shutting_down_ = false;
     std::string drain_reason_;
     std::uint64_t drain_until_us_ = 0;
+    std::uint64_t linger_until_us_ = 0;
     std::int64_t race_start_unix_s_ = 0;
     std::vector<std::pair<std::uint8_t, std::string>> racers_at_start_;
 };
