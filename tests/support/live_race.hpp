@@ -16,6 +16,7 @@
 #include "jetrace/replay/diff.hpp"
 #include "jetrace/server/race_server.hpp"
 #include "jetrace/server/replay_recorder.hpp"
+#include "input_audit.hpp"
 #include "raw_client.hpp"
 #include "severable.hpp"
 
@@ -108,6 +109,8 @@ struct Bot {
     Severable* link = nullptr;
     /// Not updated any more: its ENet host falls silent (LiveRace::freeze_bot()).
     bool frozen = false;
+    /// What a bot connected at the start sent, seen before any wrapper (null for add_bot()).
+    SentInputs* sent = nullptr;
 };
 
 class LiveRace {
@@ -145,7 +148,8 @@ public:
         port = server_net_->local_port();
         if (o.conditions) server_net_ = net::condition(std::move(server_net_), *o.conditions);
         server_ = std::make_unique<server::RaceServer>(cfg, *scene_, *server_net_);
-        server_->observer = recorder_.get();
+        applied_ = std::make_unique<AppliedInputs>(recorder_.get());
+        server_->observer = applied_.get();
         server_->on_race_end = [this](const server::RaceEnd& e) {
             ends.push_back(e);
             end_worlds.push_back(server_->world());
@@ -159,9 +163,12 @@ public:
                 t = net::condition(std::move(t), c);
             }
             if (o.wrap) t = o.wrap(i, std::move(t));
+            auto sent = std::make_unique<SentInputs>(std::move(t));
             client::ClientConfig cc;
             cc.name = "bot" + std::to_string(i);
             Bot& b = new_bot();
+            b.sent = sent.get();
+            t = std::move(sent);
             b.net = std::move(t);
             b.client = std::make_unique<client::RaceClient>(cc, *scene_, *b.net);
         }
@@ -310,6 +317,20 @@ public:
         }
         return false;
     }
+    /// Every slot's input of every tick the server stepped.
+    const AppliedInputs& applied() const { return *applied_; }
+
+    /// Checks that every bot connected at the start had its car stepped with
+    /// exactly the inputs it sent (input_audit.hpp), and that it drove.
+    void expect_cars_moved_by_their_own_bots() {
+        for (const auto& b : bots_) {
+            if (b->sent == nullptr) continue;
+            const std::string who = "slot " + std::to_string(b->client->slot());
+            const std::size_t own = expect_stepped_as_sent(*applied_, b->client->slot(), *b->sent, who);
+            EXPECT_GT(own, applied_->by_tick.size() / 2) << who << ": stepped with its own inputs only this often";
+        }
+    }
+
     /// The final state hash of verifying the recorded replay (nullopt:
     /// unreadable, failing verification, or not recorded). A failure prints
     /// what jetrace-sim --diff REPLAY --rebuild would.
@@ -355,6 +376,7 @@ private:
     std::string replay_path_;
     std::unique_ptr<net::Transport> server_net_;
     std::unique_ptr<server::ReplayRecorder> recorder_;  // before server_: outlives it
+    std::unique_ptr<AppliedInputs> applied_;            // likewise
     std::unique_ptr<server::RaceServer> server_;
     std::vector<std::unique_ptr<Bot>> bots_;
     std::vector<std::unique_ptr<RawClient>> raws_;
