@@ -60,7 +60,7 @@ TEST(Observers, EightChangeNothingInTheRaceAndANinthIsRefused) {
     constexpr int kObservers = 8;  // ServerConfig::max_observers' default
     for (int i = 0; i < kObservers; ++i) race.add_bot(observer_config("eye" + std::to_string(i)));
     jetrace::test::Bot* ninth = nullptr;
-    int most_observers = 0, render_checks = 0;
+    int most_observers = 0, render_checks = 0, spans = 0;
     double max_render_gap_m = 0;
     const bool ended = race.run([&] {
         const auto& server = race.server();
@@ -71,6 +71,12 @@ TEST(Observers, EightChangeNothingInTheRaceAndANinthIsRefused) {
         // What an observer draws: every active car, near its newest authoritative place.
         const jetrace::WorldState drawn = eye.render_world();
         const jetrace::WorldState& newest = eye.authoritative();
+        std::uint32_t from = 0, to = 0;
+        if (eye.render_span(from, to)) {
+            EXPECT_LE(from, eye.render_tick());
+            EXPECT_GT(to, eye.render_tick());
+            ++spans;
+        }
         for (std::size_t s = 0; s < drawn.cars.size() && s < newest.cars.size(); ++s) {
             if (!newest.cars[s].active || newest.cars[s].finished) continue;
             EXPECT_TRUE(drawn.cars[s].active);
@@ -84,6 +90,7 @@ TEST(Observers, EightChangeNothingInTheRaceAndANinthIsRefused) {
     EXPECT_EQ(race.server().max_players_seen(), 4) << "an observer counted as a player";
     EXPECT_EQ(most_observers, kObservers);
     EXPECT_GT(render_checks, 100);
+    EXPECT_GT(spans, 100) << "the render tick was seldom between two snapshots";
     EXPECT_LT(max_render_gap_m, 8.0);
 
     const std::uint64_t player_bytes = race.bot(0).client->totals().bytes_received;

@@ -55,6 +55,22 @@ Vec3 Interpolator::other(const SnapshotStore& store, int slot, std::uint64_t now
     return latest.cars[s].position;
 }
 
+bool Interpolator::span(const SnapshotStore& store, double render, std::uint32_t& from, std::uint32_t& to) {
+    bool a = false, b = false;
+    for (const SnapshotStore::Entry& e : store.entries()) {
+        if (e.tick == proto::kNoTick) continue;
+        if (e.tick <= render && (!a || e.tick > from)) {
+            from = e.tick;
+            a = true;
+        }
+        if (e.tick > render && (!b || e.tick < to)) {
+            to = e.tick;
+            b = true;
+        }
+    }
+    return a && b;
+}
+
 void Interpolator::world(const SnapshotStore& store, std::uint64_t now_us, double period_us, WorldState& out) const {
     out = store.latest().state;
     if (store.newest_tick() == proto::kNoTick) return;

@@ -26,14 +26,21 @@ json roster_json(const LiveSession& s) {
     return out;
 }
 
-/// Every active car of the client's world where the client draws it.
-json cars_json(const LiveSession& s) {
+/// Every active car of the client's world where the client draws it:
+/// watching, as interpolated; driving, the own car predicted, the others
+/// at the newest snapshot's state drawn where the client interpolates them.
+json cars_json(const LiveSession& s, const WorldState& predicted) {
     const client::RaceClient& c = s.client();
-    const WorldState& predicted = s.world();
     const WorldState& server = c.authoritative();
     json out = json::array();
     for (std::size_t i = 0; i < predicted.cars.size(); ++i) {
         if (!predicted.cars[i].active) continue;
+        if (!s.driving()) {
+            json j = car_json(predicted.cars[i], i);
+            j["own"] = false;
+            out.push_back(std::move(j));
+            continue;
+        }
         const int slot = static_cast<int>(i);
         const bool own = slot == c.slot();
         const CarState& car = own || i >= server.cars.size() ? predicted.cars[i] : server.cars[i];
@@ -45,9 +52,8 @@ json cars_json(const LiveSession& s) {
     return out;
 }
 
-json standings_json(const LiveSession& s) {
+json standings_json(const LiveSession& s, const WorldState& w) {
     const client::RaceClient& c = s.client();
-    const WorldState& w = s.world();
     const int rate = c.scene().physics.tick_rate_hz;
     const auto order = standings(c.scene().track, w.cars, w.start_tick, rate);
     const int leader = order.empty() ? -1 : order.front().slot;
@@ -64,6 +70,16 @@ json standings_json(const LiveSession& s) {
     return out;
 }
 
+/// Watching: the render tick (fractional) and the snapshot ticks the cars
+/// are interpolated between, for anyone to check them against the race.
+json render_json(const LiveSession& s) {
+    if (s.driving()) return nullptr;
+    std::uint32_t from = 0, to = 0;
+    const bool between = s.client().render_span(from, to);
+    return {{"tick", s.client().render_tick()}, {"from", between ? json(from) : json(nullptr)},
+            {"to", between ? json(to) : json(nullptr)}};
+}
+
 std::string connection_of(const client::RaceClient& c) {
     using client::ClientState;
     switch (c.state()) {
@@ -77,6 +93,7 @@ std::string connection_of(const client::RaceClient& c) {
 
 std::string live_hello_json(const LiveSession& s) {
     const client::RaceClient& c = s.client();
+    const WorldState w = s.world();
     const json j = {{"type", "hello"},
                     {"mode", s.driving() ? "drive" : "live"},
                     {"driver", s.driving() ? json(s.driver()) : json(nullptr)},
@@ -86,8 +103,8 @@ std::string live_hello_json(const LiveSession& s) {
                     {"tick_rate_hz", c.scene().physics.tick_rate_hz},
                     {"first_tick", nullptr},
                     {"last_tick", nullptr},
-                    {"start_tick", s.world().start_tick},
-                    {"laps", s.world().laps},
+                    {"start_tick", w.start_tick},
+                    {"laps", w.laps},
                     {"end_reason", nullptr},
                     {"cars", roster_json(s)},
                     {"ghosts", json::array()}};
@@ -96,7 +113,7 @@ std::string live_hello_json(const LiveSession& s) {
 
 std::string live_frame_json(const LiveSession& s) {
     const client::RaceClient& c = s.client();
-    const WorldState& w = s.world();
+    const WorldState w = s.world();
     const int rate = c.scene().physics.tick_rate_hz;
     const double race_s = (static_cast<double>(w.tick) - w.start_tick) / rate;
     const bool counting = c.phase() == proto::RacePhase::countdown && w.tick < w.start_tick;
@@ -110,8 +127,9 @@ std::string live_frame_json(const LiveSession& s) {
                     {"connection", connection_of(c)},
                     {"playing", true},
                     {"speed", 1},
-                    {"cars", cars_json(s)},
-                    {"standings", standings_json(s)},
+                    {"render", render_json(s)},
+                    {"cars", cars_json(s, w)},
+                    {"standings", standings_json(s, w)},
                     {"ghosts", json::array()}};
     return text_of(j);
 }

@@ -39,6 +39,7 @@ bool load_scenes(const std::string& spec, std::vector<std::unique_ptr<Scene>>& o
 
 bool LiveSession::load_tracks(const LiveOptions& o, std::string& error) {
     options_ = o;
+    options_.client.observe = !o.drive;
     scenes_.clear();
     return load_scenes(o.track_spec, scenes_, error);
 }
@@ -74,8 +75,13 @@ bool LiveSession::wait_welcome(std::string& error) {
                 client_->close_reason() + " (code " + std::to_string(client_->close_code()) + ")";
         return false;
     }
-    spdlog::info("joined {}:{} as {} (slot {}), track {}", options_.host, options_.port, options_.client.name,
-                 client_->slot(), client_->scene().track.name);
+    if (client_->observer()) {
+        spdlog::info("watching {}:{} as observer {}, track {}", options_.host, options_.port, options_.client.name,
+                     client_->scene().track.name);
+    } else {
+        spdlog::info("joined {}:{} as {} (slot {}), track {}", options_.host, options_.port, options_.client.name,
+                     client_->slot(), client_->scene().track.name);
+    }
     return true;
 }
 

@@ -1,7 +1,9 @@
-// A live race seen through a real RaceClient over ENet: the client
-// predicts and reconciles exactly as jetrace-bot's do, its own car driven
-// by the keys a page sends (drive mode). The caller owns time: update()
-// runs what is due by now. live_json.cpp turns it into page messages.
+// A live race seen through a real RaceClient over ENet. Drive mode: the
+// client predicts and reconciles exactly as jetrace-bot's do, its own car
+// driven by the keys a page sends. Watch mode: the client is an observer
+// (no car) and the page is shown the race interpolated between the
+// server's snapshots. The caller owns time: update() runs what is due by
+// now. live_json.cpp turns it into page messages.
 #pragma once
 
 #include "drive_messages.hpp"
@@ -55,9 +57,10 @@ public:
     void release_keys(std::uint64_t page);
 
     bool driving() const { return options_.drive; }
-    /// The world the page is shown (cars, laps, gates, start tick): the
-    /// client's prediction of its own race.
-    const WorldState& world() const { return client_->predicted(); }
+    /// The world the page is shown (cars, laps, gates, start tick): driving,
+    /// the client's prediction of its own race; watching, every car at the
+    /// render tick, between the two snapshots of RaceClient::render_span().
+    WorldState world() const { return options_.drive ? client_->predicted() : client_->render_world(); }
     const std::string& driver() const { return options_.client.name; }
     const client::RaceClient& client() const { return *client_; }
     const RaceTiming& timing() const { return timing_; }

@@ -1,7 +1,8 @@
-// jetrace-view: plays recorded races in a browser, or drives a car in a
-// live one. Replay mode loads a replay (and ghost replays of the same
-// track), re-simulating each with the shared core; drive mode runs a
-// RaceClient against a jetrace-server, its car driven by the page's keys.
+// jetrace-view: plays recorded races in a browser, watches a live one, or
+// drives a car in it. Replay mode loads a replay (and ghost replays of the
+// same track), re-simulating each with the shared core; live modes run a
+// RaceClient against a jetrace-server: an observer (watch), or a player
+// whose car the page's keys drive (--drive NAME).
 // Either way it serves the three.js page and streams the world to it over
 // a WebSocket (docs/VIEWER.md).
 #include "http_server.hpp"
@@ -81,7 +82,7 @@ void add_options(CLI::App& app, Args& a) {
     namespace v = jetrace::view;
     auto& s = a.settings;
     auto* replay = app.add_option("--replay", a.replay, "the replay to play")->check(CLI::ExistingFile);
-    auto* connect = app.add_option("--connect", a.connect, "ADDR:PORT of a jetrace-server: a live race");
+    auto* connect = app.add_option("--connect", a.connect, "ADDR:PORT of a jetrace-server: watch its live race as an observer (or drive, with --drive)");
     replay->excludes(connect);
     connect->excludes(replay);
     app.add_option("--drive", a.drive, "with --connect: drive a car named NAME with the page's keys")
@@ -153,15 +154,11 @@ int serve(jetrace::view::ViewContext& ctx) {
 /// "" if the options name one mode: --replay, or --connect with --drive.
 std::string mode_error(const Args& a) {
     if (a.replay.empty() && a.connect.empty()) return "--replay FILE or --connect ADDR:PORT is required";
-    if (!a.connect.empty() && a.drive.empty()) {
-        return "--connect without --drive would watch the race as an observer, which this jetrace-view cannot do "
-               "yet: pass --drive NAME to race a car from the page";
-    }
     return "";
 }
 
-/// Drive mode: joins the race, then serves pages (exit 2 for a bad
-/// address, 1 if the server cannot be reached or refuses).
+/// Live: joins the race as a driver (--drive) or an observer, then serves
+/// pages (exit 2 for a bad address, 1 if the server cannot be reached or refuses).
 int live(const Args& a, jetrace::view::ViewContext& ctx) {
     jetrace::view::LiveOptions o;
     std::string error;
@@ -171,8 +168,8 @@ int live(const Args& a, jetrace::view::ViewContext& ctx) {
         return 2;
     }
     o.track_spec = a.track;
-    o.client.name = a.drive;
-    o.drive = true;
+    o.drive = !a.drive.empty();
+    o.client.name = o.drive ? a.drive : "jetrace-view";
     jetrace::view::LiveSession session;
     if (!session.load_tracks(o, error)) {
         std::fprintf(stderr, "jetrace-view: --track: %s\n", error.c_str());
@@ -193,7 +190,7 @@ int live(const Args& a, jetrace::view::ViewContext& ctx) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"jetrace-view: plays recorded races in a browser (three.js page, world streamed over a WebSocket)"};
+    CLI::App app{"jetrace-view: watches live races and plays recorded ones in a browser (three.js page, world streamed over a WebSocket)"};
     Args a;
     a.settings.web_dir = JETRACE_VIEW_WEB_DIR;
     a.settings.node_modules_dir = JETRACE_VIEW_NODE_MODULES_DIR;

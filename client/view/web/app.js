@@ -157,6 +157,7 @@ window.jetrace = {
   state: () => ({
     connected: state.connected, closed: state.closed, trackLoaded: state.trackLoaded, frames: state.frames,
     tick: state.frame ? state.frame.tick : null, phase: state.frame ? state.frame.phase : null,
+    render: state.frame && state.frame.render ? state.frame.render : null,
     playing: state.frame ? state.frame.playing : false,
     firstTick: state.hello ? state.hello.first_tick : null, lastTick: state.hello ? state.hello.last_tick : null,
     cars: shown(cars), ghosts: ghosts.map(shown),

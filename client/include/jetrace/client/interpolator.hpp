@@ -43,6 +43,9 @@ public:
     /// rules and the cars no stored snapshot brackets from the newest
     /// snapshot; `tick` the render tick rounded down. For drawing only.
     void world(const SnapshotStore& store, std::uint64_t now_us, double period_us, WorldState& out) const;
+    /// The ticks of the stored snapshots around `render`: the newest at or
+    /// before it (from) and the oldest after it (to); false unless both exist.
+    static bool span(const SnapshotStore& store, double render, std::uint32_t& from, std::uint32_t& to);
 
 private:
     double delay_snapshots_;

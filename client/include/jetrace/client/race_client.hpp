@@ -146,6 +146,11 @@ public:
     /// linearly), the other car fields from the snapshot at or before it;
     /// start_tick, laps and the cars no stored snapshot brackets as in the
     /// newest snapshot (empty before the first). For drawing, never stepped.
+    /// The ticks of the stored snapshots render_world() interpolates between
+    /// now (false: none on one side; it draws the nearest as it is).
+    bool render_span(std::uint32_t& from, std::uint32_t& to) const {
+        return Interpolator::span(snapshots_, render_tick(), from, to);
+    }
     WorldState render_world() const {
         WorldState w;
         interpolator_.world(snapshots_, now_us_, clock_.period_us(), w);
