@@ -3,12 +3,11 @@
 #include "bot_report.hpp"
 
 #include "jetrace/auth/connect_token.hpp"
-#include "jetrace/builtin_tracks.hpp"
 #include "jetrace/cli/finite.hpp"
 #include "jetrace/cli/logging.hpp"
 #include "jetrace/net/address.hpp"
 #include "jetrace/proto/messages.hpp"
-#include "jetrace/track_io.hpp"
+#include "jetrace/client/scene_choice.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -136,23 +135,10 @@ int parse_options(int argc, char** argv, BotOptions& o) {
 }
 
 bool load_scenes(const std::string& track_spec, std::vector<std::unique_ptr<Scene>>& out) {
-    const PhysicsSettings physics;
-    if (!track_spec.empty()) {
-        Track t;
-        std::string error;
-        if (!load_track(track_spec, t, error)) {
-            std::fprintf(stderr, "jetrace-bot: %s\n", error.c_str());
-            return false;
-        }
-        out.push_back(std::make_unique<Scene>(Scene::make(std::move(t), physics)));
-        return true;
-    }
-    for (const std::string& name : builtin_track_names()) {
-        Track t;
-        make_builtin_track(name, t);
-        out.push_back(std::make_unique<Scene>(Scene::make(std::move(t), physics)));
-    }
-    return true;
+    std::string error;
+    if (client::load_known_scenes(track_spec, out, error)) return true;
+    std::fprintf(stderr, "jetrace-bot: %s\n", error.c_str());
+    return false;
 }
 
 }  // namespace jetrace::bot

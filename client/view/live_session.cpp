@@ -1,8 +1,5 @@
 #include "live_session.hpp"
 
-#include "jetrace/builtin_tracks.hpp"
-#include "jetrace/track_io.hpp"
-
 #include <spdlog/spdlog.h>
 
 #include <thread>
@@ -16,32 +13,11 @@ Input input_of(const KeysMessage& k) {
     return Input::clamped(k.up ? Input::kMaxThrottle : 0, steer, k.brake ? 1 : 0);
 }
 
-namespace {
-
-/// As jetrace-bot: the --track file only, or every built-in track.
-bool load_scenes(const std::string& spec, std::vector<std::unique_ptr<Scene>>& out, std::string& error) {
-    const PhysicsSettings physics;
-    if (!spec.empty()) {
-        Track t;
-        if (!load_track(spec, t, error)) return false;
-        out.push_back(std::make_unique<Scene>(Scene::make(std::move(t), physics)));
-        return true;
-    }
-    for (const std::string& name : builtin_track_names()) {
-        Track t;
-        make_builtin_track(name, t);
-        out.push_back(std::make_unique<Scene>(Scene::make(std::move(t), physics)));
-    }
-    return true;
-}
-
-}  // namespace
-
 bool LiveSession::load_tracks(const LiveOptions& o, std::string& error) {
     options_ = o;
     options_.client.observe = !o.drive;
     scenes_.clear();
-    return load_scenes(o.track_spec, scenes_, error);
+    return client::load_known_scenes(o.track_spec, scenes_, error);
 }
 
 bool LiveSession::open(std::string& error) {

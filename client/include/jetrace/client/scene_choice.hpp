@@ -18,6 +18,11 @@ namespace jetrace::client {
 /// one that matches, and leaves if none does.
 using KnownScenes = std::vector<const Scene*>;
 
+/// The tracks a client program knows, with default physics: the track file
+/// `track_spec` only (OBJ, glTF, manifest or .jtrack), or every built-in
+/// track when it is empty. False with `error` if the file cannot be loaded.
+bool load_known_scenes(const std::string& track_spec, std::vector<std::unique_ptr<Scene>>& out, std::string& error);
+
 class SceneChoice {
 public:
     /// `name`: the client's, for log lines.
