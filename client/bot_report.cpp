@@ -66,6 +66,8 @@ bool print_bot_line(const client::RaceClient& c, const std::string& name, bool s
     j["position"] = position;
     j["outcome"] = outcome_name(code);
     j["corrections"] = c.stats().corrections;
+    j["corrections_late"] = c.stats().corrections_late;
+    j["corrections_near_car"] = c.stats().corrections_near_car;
     j["max_correction_m"] = c.stats().max_correction_m;
     j["snapshots"] = c.stats().snapshots;
     j["rtt_ms"] = c.rtt_ms();

@@ -3,7 +3,9 @@
 # --bots / --servers players) and ONE jetrace-bot process driving all the
 # bots (predicting, or --thin), waits for the race, and prints one JSON line:
 #   bots, finished (by the servers' results files; finished_seen_by_bots:
-#   by the Results the bots received), corrections, late_inputs (snapshots
+#   by the Results the bots received), corrections (corrections_late: the
+#   snapshot shows the server stepped without the bot's input; corrections_near_car:
+#   of the rest, another car within 4 radii), late_inputs (snapshots
 #   showing a tick stepped without the bot's input), bot_cores (CPU time over wall time of the
 #   bot process), bot_cores_per_bot, server tick median / p99 (ms, the
 #   largest over the servers), bytes per client per simulated second each
@@ -120,6 +122,8 @@ jq -s -c --argjson bots "$bots" --argjson servers "$servers" --arg track "$track
     finished: ($res | map(.standings[] | select(.finished)) | length),
     finished_seen_by_bots: map(select(.finished)) | length,
     corrections: map(.corrections) | add,
+    corrections_late: map(.corrections_late // 0) | add,
+    corrections_near_car: map(.corrections_near_car // 0) | add,
     max_correction_m: map(.max_correction_m) | max,
     late_inputs: map(.late_inputs // 0) | add,
     reconnects: map(.reconnects) | add,

@@ -194,11 +194,30 @@ void RaceClient::reconcile(const proto::WorldSnapshot& snap) {
     if (o.resynced) return clock_.resync(now_us_);  // behind the server: the clock catches up
     if (o.corrected) {
         ++stats_.corrections;
+        count_cause(snap);
         stats_.max_correction_m = std::max(stats_.max_correction_m, o.error_m);
         spdlog::debug("{}: correction at tick {}: error {:.4f} m, last applied input {}, predicted tick {}",
                       config_.name, snap.state.tick, o.error_m, snapshots_.last_applied_input_tick(), predicted_tick());
     }
     if (!predictor_.thin()) interpolator_.correct(before, predictor_.world().cars[own].position);
+}
+
+void RaceClient::count_cause(const proto::WorldSnapshot& snap) {
+    const std::uint32_t applied = snapshots_.last_applied_input_tick();
+    if (applied != proto::kNoTick && applied + 1 < snap.state.tick) {
+        ++stats_.corrections_late;
+        return;
+    }
+    const auto& cars = snap.state.cars;
+    const auto own = static_cast<std::size_t>(slot_);
+    const double near_m = 4.0 * scene().physics.car_radius_m;
+    for (std::size_t j = 0; j < cars.size(); ++j) {
+        if (j == own || !cars[j].active) continue;
+        if ((cars[j].position - cars[own].position).squaredNorm() < near_m * near_m) {
+            ++stats_.corrections_near_car;
+            return;
+        }
+    }
 }
 
 void RaceClient::run_tick(const InputSource& input) {

@@ -43,6 +43,13 @@ struct ClientStats {
     std::uint64_t snapshots = 0;
     /// Snapshots whose state of the own car differed from the prediction.
     std::uint64_t corrections = 0;
+    /// Of them, those whose snapshot shows the tick before it stepped
+    /// without this client's input (it reached the server late).
+    std::uint64_t corrections_late = 0;
+    /// Of the others, those with another car near the own one in the
+    /// snapshot (within 4 car radii): a car whose inputs the prediction
+    /// had to guess may have touched it.
+    std::uint64_t corrections_near_car = 0;
     /// Largest position error found by a correction (unit: m).
     double max_correction_m = 0;
     /// Snapshots that could not be used (undecodable, baseline missing, stale).
@@ -174,6 +181,8 @@ private:
     /// Forgets the prediction and snapshots: the next snapshot restarts them.
     void reset_world();
     void reconcile(const proto::WorldSnapshot& snap);
+    /// Counts a correction's likely cause (ClientStats).
+    void count_cause(const proto::WorldSnapshot& snap);
     void run_tick(const InputSource& input);
     void send_inputs();
     /// An observer's update: acknowledges the newest snapshot.
