@@ -1,6 +1,7 @@
 // The driving AI completes laps of `stadium` (wall included), of tracks
 // imported from OBJ files, including shapes it was not tuned on, and of a
-// real level loaded through its manifest (docs/tracks/zdm2.track.json).
+// real levels loaded through their manifests (docs/tracks/zdm2.track.json,
+// docs/tracks/truck_town.track.json).
 #include "jetrace/builtin_tracks.hpp"
 #include "jetrace/offline_race.hpp"
 #include "jetrace/track_io.hpp"
@@ -68,4 +69,14 @@ TEST(AiTracks, SevenOfEightFinishALapOfZdm2) {
     ASSERT_TRUE(jetrace::load_track(std::string(JETRACE_SOURCE_DIR) + "/docs/tracks/zdm2.track.json", t, error))
         << error;
     EXPECT_GE(finishers(std::move(t), 8, 1, 120), 7);
+}
+
+TEST(AiTracks, EveryCarFinishesALapOfTruckTown) {
+    // A real level on hilly terrain: the town's streets, a bridge over a
+    // ravine and crests that throw a fast car into the air (it respawns).
+    jetrace::Track t;
+    std::string error;
+    ASSERT_TRUE(jetrace::load_track(std::string(JETRACE_SOURCE_DIR) + "/docs/tracks/truck_town.track.json", t, error))
+        << error;
+    EXPECT_EQ(finishers(std::move(t), 8, 1, 120), 8);
 }
