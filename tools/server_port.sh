@@ -1,9 +1,9 @@
 # Sourced by scripts that start jetrace-server with --port 0: waits (up to
-# 10 s) for its line "listening on ADDR:PORT" in LOG and prints PORT.
+# 30 s) for its line "listening on ADDR:PORT" in LOG and prints PORT.
 # Usage: port="$(server_port LOG)" || exit 1
 server_port() {
   local log="$1" port=""
-  for _ in $(seq 1 100); do
+  for _ in $(seq 1 300); do
     port="$(sed -n 's/^listening on .*:\([0-9]*\)$/\1/p' "$log")"
     [ -n "$port" ] && { echo "$port"; return 0; }
     sleep 0.1
