@@ -5,12 +5,16 @@
 //   study        the speed-against-accuracy study: CSV files (tools/bench/study*.cpp).
 //   bullet       side by side with Bullet (tools/bench/bullet.cpp; only when
 //                built with Bullet).
+//   landscape    writes the benchmark landscape (bench/landscape.hpp) as an
+//                OBJ track (docs/TRACKS.md), for tools/view_bench.sh.
 #include "bench/common.hpp"
+#include "bench/landscape.hpp"
 #include "bench/replay_cost.hpp"
 #include "bench/track_load.hpp"
 #include "jetrace/cli/finite.hpp"
 #include "bench/study.hpp"
 #include "jetrace/builtin_tracks.hpp"
+#include "jetrace/track_io.hpp"
 #include "jetrace/world.hpp"
 #ifdef JETRACE_HAVE_BULLET
 #include "bench/bullet.hpp"
@@ -22,6 +26,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <fstream>
+#include <string>
 #include <vector>
 
 namespace {
@@ -120,6 +126,27 @@ int run_integrators() {
     return 0;
 }
 
+// The landscape of `squares` per side with `spawns` grid slots written as an OBJ track to `out`.
+int run_landscape(int squares, int spawns, const std::string& out) {
+    const jetrace::Track track = jetrace::bench::landscape(squares, spawns);
+    std::ofstream file(out, std::ios::binary | std::ios::trunc);
+    file << jetrace::export_obj(track);
+    file.close();
+    if (!file) {
+        std::fprintf(stderr, "jetrace-bench: cannot write %s\n", out.c_str());
+        return 1;
+    }
+    nlohmann::json j;
+    j["benchmark"] = "landscape";
+    j["track"] = track.name;
+    j["triangles"] = track.triangles.size();
+    j["gates"] = track.checkpoints.size();
+    j["spawns"] = track.spawns.size();
+    j["file"] = out;
+    std::printf("%s\n", j.dump().c_str());
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -168,7 +195,15 @@ int main(int argc, char** argv) {
         ->check(jetrace::cli::finite() & CLI::Range(0.1, 600.0));
     density->add_option("--repeats", density_opts.repeats, "timed races per density; the median is reported")
         ->check(CLI::Range(1, 50));
+    int landscape_squares = 500, landscape_spawns = 8;
+    std::string landscape_out;
+    auto* landscape = app.add_subcommand("landscape", "write the benchmark landscape as an OBJ track (2 n^2 triangles)");
+    landscape->add_option("--squares", landscape_squares, "squares per side (2 n^2 triangles)")->check(CLI::Range(2, 1414));
+    landscape->add_option("--spawns", landscape_spawns, "starting-grid slots, two columns behind gate 0")
+        ->check(CLI::Range(1, 64));
+    landscape->add_option("--out", landscape_out, "the OBJ file to write")->required();
     CLI11_PARSE(app, argc, argv);
+    if (landscape->parsed()) return run_landscape(landscape_squares, landscape_spawns, landscape_out);
     if (track_load->parsed()) return jetrace::bench::run_track_load(load_opts);
     if (density->parsed()) return jetrace::bench::run_density(density_opts);
     if (seed->parsed()) return run_seed(frames, repeats, !no_grid_off);

@@ -8,6 +8,7 @@ import { CarObject, carColor, gateObject, trackMesh } from './scene.js';
 import { Cameras } from './cameras.js';
 import { Panels } from './ui.js';
 import { driveKeys } from './keys.js';
+import { FrameStats } from './frame_stats.js';
 
 const view = document.getElementById('view');
 const renderer = new THREE.WebGLRenderer({ antialias: true });
@@ -35,6 +36,7 @@ const state = { hello: null, frame: null, frames: 0, connected: false, closed: f
 const cars = new Map();    // slot -> CarObject
 const ghosts = [];         // per ghost replay: Map slot -> CarObject
 let keys = null;           // drive mode: the keyboard
+const stats = new FrameStats();  // off unless a benchmark asks (window.jetrace.measure)
 
 const socket = new WebSocket('ws://' + location.host + '/ws');
 const send = (msg) => { if (socket.readyState === WebSocket.OPEN) socket.send(JSON.stringify(msg)); };
@@ -120,6 +122,7 @@ socket.addEventListener('close', (e) => {
   panels.setConnection('disconnected (' + e.code + ')');
 });
 socket.addEventListener('message', (e) => {
+  stats.message(typeof e.data === 'string' ? e.data.length : 0);
   const msg = JSON.parse(e.data);
   if (msg.type === 'hello') onHello(msg);
   else if (msg.type === 'frame') onFrame(msg);
@@ -141,8 +144,10 @@ renderer.setAnimationLoop(() => {
   if (!dirty) return;
   dirty = false;
   cameras.follow(cars.get(chaseSlot));
-  renderer.render(scene, camera);
-  labels.render(scene, camera);
+  stats.draw(() => {
+    renderer.render(scene, camera);
+    labels.render(scene, camera);
+  });
 });
 
 function shown(objects) {
@@ -176,6 +181,10 @@ window.jetrace = {
   pause: () => send({ type: 'pause' }),
   speed: (value) => send({ type: 'speed', value }),
   camera: (mode) => { cameras.setMode(mode); redraw(); },
+  // Benchmarks: measure(true) starts timing the draws (from now), frameTimes()
+  // returns {measuring, elapsed_ms, draws, messages, message_bytes, render_ms, interval_ms}.
+  measure: (on = true) => stats.measure(on),
+  frameTimes: () => stats.report(),
   // Sends `text` as it is (tests send malformed messages with it).
   sendRaw: (text) => socket.send(text),
 };
