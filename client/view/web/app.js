@@ -121,12 +121,11 @@ socket.addEventListener('close', (e) => {
   state.closed = true;
   panels.setConnection('disconnected (' + e.code + ')');
 });
-socket.addEventListener('message', (e) => {
-  stats.message(typeof e.data === 'string' ? e.data.length : 0);
+socket.addEventListener('message', (e) => stats.message(typeof e.data === 'string' ? e.data.length : 0, () => {
   const msg = JSON.parse(e.data);
   if (msg.type === 'hello') onHello(msg);
   else if (msg.type === 'frame') onFrame(msg);
-});
+}));
 
 window.addEventListener('resize', () => {
   camera.aspect = window.innerWidth / window.innerHeight;
@@ -182,7 +181,7 @@ window.jetrace = {
   speed: (value) => send({ type: 'speed', value }),
   camera: (mode) => { cameras.setMode(mode); redraw(); },
   // Benchmarks: measure(true) starts timing the draws (from now), frameTimes()
-  // returns {measuring, elapsed_ms, draws, messages, message_bytes, render_ms, interval_ms}.
+  // returns {measuring, elapsed_ms, draws, messages, message_bytes, render_ms, interval_ms, message_ms}.
   measure: (on = true) => stats.measure(on),
   frameTimes: () => stats.report(),
   // Sends `text` as it is (tests send malformed messages with it).

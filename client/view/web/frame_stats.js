@@ -1,8 +1,9 @@
 // The page's own timing, for benchmarks (tools/view_bench.mjs): how long each
 // draw (renderer.render + labels.render) took, the interval between drawn
-// frames (requestAnimationFrame callbacks that drew), and the frame messages
-// and bytes received. Off until measure() starts it; then two
-// performance.now() calls per draw and one per message, into fixed rings.
+// frames (requestAnimationFrame callbacks that drew), how long handling each
+// message took (parse, place the cars, the panels), and the messages and bytes
+// received. Off until measure() starts it; then two performance.now() calls
+// per draw and per message, into fixed rings.
 const RING = 4096;
 
 export class FrameStats {
@@ -10,6 +11,7 @@ export class FrameStats {
     this.on = false;
     this.render = new Float64Array(RING);
     this.interval = new Float64Array(RING);
+    this.handle = new Float64Array(RING);
     this.reset();
   }
 
@@ -41,11 +43,16 @@ export class FrameStats {
     return undefined;
   }
 
-  // A message of `chars` characters (UTF-16 units; the frames are ASCII, so bytes).
-  message(chars) {
-    if (!this.on) return;
+  // Wraps the handling of a message of `chars` characters (UTF-16 units; the
+  // frames are ASCII but for names, so about bytes).
+  message(chars, fn) {
+    if (!this.on) return fn();
+    const t0 = performance.now();
+    fn();
+    this.handle[this.messages % RING] = performance.now() - t0;
     this.messages++;
     this.bytes += chars;
+    return undefined;
   }
 
   // The last (up to RING) draws and intervals (ms), and the counts since measure().
@@ -60,6 +67,7 @@ export class FrameStats {
       measuring: this.on, elapsed_ms: performance.now() - this.start, draws: this.draws,
       messages: this.messages, message_bytes: this.bytes,
       render_ms: last(this.render, this.draws), interval_ms: last(this.interval, this.intervals),
+      message_ms: last(this.handle, this.messages),
     };
   }
 }
