@@ -126,9 +126,25 @@ int run_integrators() {
     return 0;
 }
 
-// The landscape of `squares` per side with `spawns` grid slots written as an OBJ track to `out`.
-int run_landscape(int squares, int spawns, const std::string& out) {
-    const jetrace::Track track = jetrace::bench::landscape(squares, spawns);
+struct LandscapeOptions {
+    int squares = 500;  // squares per side (2 n^2 triangles)
+    int spawns = 8;     // starting-grid slots
+    std::string out;    // the OBJ file
+};
+
+CLI::App* add_landscape(CLI::App& app, LandscapeOptions& o) {
+    auto* sub = app.add_subcommand("landscape", "write the benchmark landscape as an OBJ track (2 n^2 triangles)");
+    sub->add_option("--squares", o.squares, "squares per side (2 n^2 triangles; 16 or more keep the spawns above the mesh)")
+        ->check(CLI::Range(2, 1414));
+    sub->add_option("--spawns", o.spawns, "starting-grid slots, two columns behind gate 0")->check(CLI::Range(1, 64));
+    sub->add_option("--out", o.out, "the OBJ file to write")->required();
+    return sub;
+}
+
+// The landscape written as an OBJ track (docs/TRACKS.md) to `o.out`.
+int run_landscape(const LandscapeOptions& o) {
+    const std::string& out = o.out;
+    const jetrace::Track track = jetrace::bench::landscape(o.squares, o.spawns);
     std::ofstream file(out, std::ios::binary | std::ios::trunc);
     file << jetrace::export_obj(track);
     file.close();
@@ -195,15 +211,10 @@ int main(int argc, char** argv) {
         ->check(jetrace::cli::finite() & CLI::Range(0.1, 600.0));
     density->add_option("--repeats", density_opts.repeats, "timed races per density; the median is reported")
         ->check(CLI::Range(1, 50));
-    int landscape_squares = 500, landscape_spawns = 8;
-    std::string landscape_out;
-    auto* landscape = app.add_subcommand("landscape", "write the benchmark landscape as an OBJ track (2 n^2 triangles)");
-    landscape->add_option("--squares", landscape_squares, "squares per side (2 n^2 triangles)")->check(CLI::Range(2, 1414));
-    landscape->add_option("--spawns", landscape_spawns, "starting-grid slots, two columns behind gate 0")
-        ->check(CLI::Range(1, 64));
-    landscape->add_option("--out", landscape_out, "the OBJ file to write")->required();
+    LandscapeOptions landscape_opts;
+    auto* landscape = add_landscape(app, landscape_opts);
     CLI11_PARSE(app, argc, argv);
-    if (landscape->parsed()) return run_landscape(landscape_squares, landscape_spawns, landscape_out);
+    if (landscape->parsed()) return run_landscape(landscape_opts);
     if (track_load->parsed()) return jetrace::bench::run_track_load(load_opts);
     if (density->parsed()) return jetrace::bench::run_density(density_opts);
     if (seed->parsed()) return run_seed(frames, repeats, !no_grid_off);
