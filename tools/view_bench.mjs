@@ -13,7 +13,7 @@ if (!url || !(viewPid > 0) || !(pageCount >= 1 && pageCount <= 16) || !(seconds 
   console.error('usage: node view_bench.mjs URL VIEW_PID PAGES(1..16) SECONDS(0..600]');
   process.exit(2);
 }
-const guard = { timeout: 300000 };  // a bound on waiting, not a timed assertion
+const guard = { timeout: 300000, polling: 200 };  // a bound on waiting, not a timed assertion; timer-polled
 const CLK_TCK = 100;                // Linux's USER_HZ for /proc/PID/stat
 
 // jetrace-view's user + system CPU time (s), from /proc/PID/stat fields 14 and 15.
