@@ -20,6 +20,23 @@ jetrace_cli_test(NAME cli_bench_track_load_prints_json COMMAND jetrace-bench tra
   REGEX "\"identity_equal\":true" LABELS quick TIMEOUT 60)
 jetrace_cli_test(NAME cli_bench_density_prints_json COMMAND jetrace-bench density --squares 16 32 --seconds 1 --repeats 1
   REGEX "\"ns_per_car_step\":[0-9.e+-]+,.*\"triangles\":512.*\"triangles\":2048" LABELS quick TIMEOUT 60)
+# jetrace-bench landscape writes the landscape as an OBJ track that races
+# (tools/view_bench.sh's input); bad sizes and an unwritable file fail.
+jetrace_cli_test(NAME cli_bench_landscape_writes_obj
+  COMMAND sh -c "out=\$(mktemp -d) && \"$0\" landscape --squares 20 --spawns 64 --out \$out/l.obj && \"$1\" --track \$out/l.obj --cars 64 --seconds 1; s=\$?; rm -rf \$out; exit \$s"
+          $<TARGET_FILE:jetrace-bench> $<TARGET_FILE:jetrace-sim>
+  REGEX "\"gates\":16,.*\"spawns\":64,\"track\":\"landscape-20\",\"triangles\":800}.*64 cars.*state_hash=" LABELS quick TIMEOUT 60)
+jetrace_cli_test(NAME cli_bench_landscape_rejects_one_square COMMAND jetrace-bench landscape --squares 1 --out x.obj
+  EXPECT_FAIL LABELS quick)
+jetrace_cli_test(NAME cli_bench_landscape_rejects_65_spawns COMMAND jetrace-bench landscape --spawns 65 --out x.obj
+  EXPECT_FAIL LABELS quick)
+jetrace_cli_test(NAME cli_bench_landscape_rejects_unwritable
+  COMMAND sh -c "\"$0\" landscape --squares 2 --out /proc/jetrace-no-such-dir/l.obj 2>&1; echo exit=$?" $<TARGET_FILE:jetrace-bench>
+  REGEX "cannot write /proc/jetrace-no-such-dir/l.obj.*exit=1" LABELS quick)
+# tools/view_bench.sh refuses bad arguments before it starts anything.
+jetrace_cli_test(NAME cli_view_bench_rejects_bad_seconds
+  COMMAND sh -c "\"$0\" --seconds nan 2>&1; echo exit=$?" ${PROJECT_SOURCE_DIR}/tools/view_bench.sh
+  REGEX "--seconds must be a whole number.*exit=2" LABELS quick)
 
 # The real levels (../shared/tracks, through docs/tracks/*.track.json): 8 AI
 # cars race a few seconds on each (laps are not asserted). Then jetrace-track.

@@ -5,12 +5,16 @@
 //   study        the speed-against-accuracy study: CSV files (tools/bench/study*.cpp).
 //   bullet       side by side with Bullet (tools/bench/bullet.cpp; only when
 //                built with Bullet).
+//   landscape    writes the benchmark landscape (bench/landscape.hpp) as an
+//                OBJ track (docs/TRACKS.md), for tools/view_bench.sh.
 #include "bench/common.hpp"
+#include "bench/landscape.hpp"
 #include "bench/replay_cost.hpp"
 #include "bench/track_load.hpp"
 #include "jetrace/cli/finite.hpp"
 #include "bench/study.hpp"
 #include "jetrace/builtin_tracks.hpp"
+#include "jetrace/track_io.hpp"
 #include "jetrace/world.hpp"
 #ifdef JETRACE_HAVE_BULLET
 #include "bench/bullet.hpp"
@@ -22,6 +26,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <fstream>
+#include <string>
 #include <vector>
 
 namespace {
@@ -120,6 +126,43 @@ int run_integrators() {
     return 0;
 }
 
+struct LandscapeOptions {
+    int squares = 500;  // squares per side (2 n^2 triangles)
+    int spawns = 8;     // starting-grid slots
+    std::string out;    // the OBJ file
+};
+
+CLI::App* add_landscape(CLI::App& app, LandscapeOptions& o) {
+    auto* sub = app.add_subcommand("landscape", "write the benchmark landscape as an OBJ track (2 n^2 triangles)");
+    sub->add_option("--squares", o.squares, "squares per side (2 n^2 triangles; 16 or more keep the spawns above the mesh)")
+        ->check(CLI::Range(2, 1414));
+    sub->add_option("--spawns", o.spawns, "starting-grid slots, two columns behind gate 0")->check(CLI::Range(1, 64));
+    sub->add_option("--out", o.out, "the OBJ file to write")->required();
+    return sub;
+}
+
+// The landscape written as an OBJ track (docs/TRACKS.md) to `o.out`.
+int run_landscape(const LandscapeOptions& o) {
+    const std::string& out = o.out;
+    const jetrace::Track track = jetrace::bench::landscape(o.squares, o.spawns);
+    std::ofstream file(out, std::ios::binary | std::ios::trunc);
+    file << jetrace::export_obj(track);
+    file.close();
+    if (!file) {
+        std::fprintf(stderr, "jetrace-bench: cannot write %s\n", out.c_str());
+        return 1;
+    }
+    nlohmann::json j;
+    j["benchmark"] = "landscape";
+    j["track"] = track.name;
+    j["triangles"] = track.triangles.size();
+    j["gates"] = track.checkpoints.size();
+    j["spawns"] = track.spawns.size();
+    j["file"] = out;
+    std::printf("%s\n", j.dump().c_str());
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -168,7 +211,10 @@ int main(int argc, char** argv) {
         ->check(jetrace::cli::finite() & CLI::Range(0.1, 600.0));
     density->add_option("--repeats", density_opts.repeats, "timed races per density; the median is reported")
         ->check(CLI::Range(1, 50));
+    LandscapeOptions landscape_opts;
+    auto* landscape = add_landscape(app, landscape_opts);
     CLI11_PARSE(app, argc, argv);
+    if (landscape->parsed()) return run_landscape(landscape_opts);
     if (track_load->parsed()) return jetrace::bench::run_track_load(load_opts);
     if (density->parsed()) return jetrace::bench::run_density(density_opts);
     if (seed->parsed()) return run_seed(frames, repeats, !no_grid_off);

@@ -117,7 +117,9 @@ try {
   check(held && refused === 1006, `a page over --max-pages is refused (close code ${refused})`);
   await other.evaluate(() => new Promise((resolve) => { window.held.onclose = resolve; window.held.close(); }));
   await page.evaluate(() => window.jetrace.sendRaw('{"type":"seek","tick":1e999}'));
-  await page.waitForFunction(() => window.jetrace.state().closed, guard);
+  // Polled by a timer: the first page is a background tab now, where
+  // requestAnimationFrame (puppeteer's default polling) does not run.
+  await page.waitForFunction(() => window.jetrace.state().closed, { ...guard, polling: 100 });
   check(true, 'the first page was closed after its malformed seek');
   const before = await other.evaluate(() => window.jetrace.state());
   console.log(`second page at tick ${before.tick}, ${before.frames} frames, playing ${before.playing}`);

@@ -32,7 +32,7 @@ Pose pose_at(double a, double lateral_m) {
 
 }  // namespace
 
-Track landscape(int n) {
+Track landscape(int n, int spawn_count) {
     std::vector<Vec3> vertices;
     std::vector<std::uint32_t> indices;
     const auto un = static_cast<std::uint32_t>(n);
@@ -67,7 +67,7 @@ Track landscape(int n) {
         gates.push_back(c);
     }
     std::vector<Pose> spawns;
-    for (int s = 0; s < 8; ++s) {  // two columns, 12 m rows behind gate 0
+    for (int s = 0; s < spawn_count; ++s) {  // two columns, 12 m rows behind gate 0
         const double back_m = 15.0 + 12.0 * (s / 2);
         spawns.push_back(pose_at(-back_m / kLapRadius_m, s % 2 == 0 ? -5.0 : 5.0));
     }

@@ -8,6 +8,7 @@ import { CarObject, carColor, gateObject, trackMesh } from './scene.js';
 import { Cameras } from './cameras.js';
 import { Panels } from './ui.js';
 import { driveKeys } from './keys.js';
+import { FrameStats } from './frame_stats.js';
 
 const view = document.getElementById('view');
 const renderer = new THREE.WebGLRenderer({ antialias: true });
@@ -35,6 +36,7 @@ const state = { hello: null, frame: null, frames: 0, connected: false, closed: f
 const cars = new Map();    // slot -> CarObject
 const ghosts = [];         // per ghost replay: Map slot -> CarObject
 let keys = null;           // drive mode: the keyboard
+const stats = new FrameStats();  // off unless a benchmark asks (window.jetrace.measure)
 
 const socket = new WebSocket('ws://' + location.host + '/ws');
 const send = (msg) => { if (socket.readyState === WebSocket.OPEN) socket.send(JSON.stringify(msg)); };
@@ -119,11 +121,11 @@ socket.addEventListener('close', (e) => {
   state.closed = true;
   panels.setConnection('disconnected (' + e.code + ')');
 });
-socket.addEventListener('message', (e) => {
+socket.addEventListener('message', (e) => stats.message(typeof e.data === 'string' ? e.data.length : 0, () => {
   const msg = JSON.parse(e.data);
   if (msg.type === 'hello') onHello(msg);
   else if (msg.type === 'frame') onFrame(msg);
-});
+}));
 
 window.addEventListener('resize', () => {
   camera.aspect = window.innerWidth / window.innerHeight;
@@ -141,8 +143,10 @@ renderer.setAnimationLoop(() => {
   if (!dirty) return;
   dirty = false;
   cameras.follow(cars.get(chaseSlot));
-  renderer.render(scene, camera);
-  labels.render(scene, camera);
+  stats.draw(() => {
+    renderer.render(scene, camera);
+    labels.render(scene, camera);
+  });
 });
 
 function shown(objects) {
@@ -176,6 +180,10 @@ window.jetrace = {
   pause: () => send({ type: 'pause' }),
   speed: (value) => send({ type: 'speed', value }),
   camera: (mode) => { cameras.setMode(mode); redraw(); },
+  // Benchmarks: measure(true) starts timing the draws (from now), frameTimes()
+  // returns {measuring, elapsed_ms, draws, messages, message_bytes, render_ms, interval_ms, message_ms}.
+  measure: (on = true) => stats.measure(on),
+  frameTimes: () => stats.report(),
   // Sends `text` as it is (tests send malformed messages with it).
   sendRaw: (text) => socket.send(text),
 };
