@@ -118,7 +118,7 @@ int sweep_motion(const TrackQuery& q, const SphereMotion& car, Candidates& cand)
         const Vec3 mid = p + d * 0.5;
         const double swept_reach = 0.5 * std::sqrt(d.squaredNorm()) + r;
         for_each(track, cand, [&](const Triangle& t, std::size_t k) {
-            if (cand.may_touch(k, mid, swept_reach)) found = sweep_sphere_triangle(p, d, r, t, hit) || found;
+            if (cand.may_reach_along_axes(k, mid, swept_reach)) found = sweep_sphere_triangle(p, d, r, t, hit) || found;
             return true;
         });
         if (!found) {

@@ -6,6 +6,7 @@
 #include "jetrace/track.hpp"
 #include "jetrace/uniform_grid.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -62,8 +63,26 @@ struct Candidates {
                p.z() - radius_m >= region.min.z() && p.z() + radius_m <= region.max.z();
     }
     /// False if the k-th candidate's box is farther than `reach_m` from `p`
-    /// along an axis: it cannot come within `reach_m` of `p`.
+    /// (the distance from `p` to the box, a lower bound of the distance to
+    /// the triangle inside it): the triangle cannot come within `reach_m`
+    /// of `p`. A car over dense ground passes the per-axis test
+    /// (may_reach_along_axes) for every triangle under its sphere's square
+    /// shadow; this one only for those under the part within reach.
     bool may_touch(std::size_t k, const Vec3& p, double reach_m) const {
+        if (all) return true;
+        const Aabb& b = boxes[k];
+        const double h = reach_m + kBoxSlack_m;
+        // A NaN in p makes the sum NaN and the test false, as on every axis
+        // of the per-axis test.
+        const double dx = std::max(std::max(b.min.x() - p.x(), p.x() - b.max.x()), 0.0);
+        const double dy = std::max(std::max(b.min.y() - p.y(), p.y() - b.max.y()), 0.0);
+        const double dz = std::max(std::max(b.min.z() - p.z(), p.z() - b.max.z()), 0.0);
+        return dx * dx + dy * dy + dz * dz <= h * h;
+    }
+    /// False if the k-th candidate's box is farther than `reach_m` from `p`
+    /// along an axis: it cannot come within `reach_m` of `p`. The sweep's
+    /// test (its hits are not decided by a closest distance alone).
+    bool may_reach_along_axes(std::size_t k, const Vec3& p, double reach_m) const {
         if (all) return true;
         const Aabb& b = boxes[k];
         const double h = reach_m + kBoxSlack_m;
