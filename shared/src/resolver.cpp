@@ -18,21 +18,17 @@ void gather_candidates(const TrackQuery& q, const Vec3& center, double radius_m,
     if (out.all) return;
     const Vec3 slack(kBoxSlack_m, kBoxSlack_m, kBoxSlack_m);
     const Aabb query{out.region.min - slack, out.region.max + slack};
-    q.grid.for_each_candidate(query, [&](std::uint32_t t) { out.triangles.push_back(t); });
+    // The triangles whose own bounds reach the query (the grid reports
+    // every triangle bucketed in the cells it touches), filtered before the
+    // sort, which then orders only those kept.
+    q.grid.for_each_candidate(query, [&](std::uint32_t t) {
+        if (q.track.triangles[t].bounds().overlaps(query)) out.triangles.push_back(t);
+    });
     // Canonical order: ascending triangle index, the brute-force order. The
     // result of a step then does not depend on which cells were visited or
     // on how large the gathered region was, only on the geometry.
     std::sort(out.triangles.begin(), out.triangles.end());
-    // Keep the triangles whose own bounds reach the query (the grid reports
-    // every triangle bucketed in the cells it touches).
-    std::size_t kept = 0;
-    for (const std::uint32_t t : out.triangles) {
-        const Aabb b = q.track.triangles[t].bounds();
-        if (!b.overlaps(query)) continue;
-        out.triangles[kept++] = t;
-        out.boxes.push_back(b);
-    }
-    out.triangles.resize(kept);
+    for (const std::uint32_t t : out.triangles) out.boxes.push_back(q.track.triangles[t].bounds());
 }
 
 GatherReach gather_reach(const PhysicsSettings& s, GatherFor why, double motion_m) {
