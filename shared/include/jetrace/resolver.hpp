@@ -79,6 +79,25 @@ struct Candidates {
         const double dz = std::max(std::max(b.min.z() - p.z(), p.z() - b.max.z()), 0.0);
         return dx * dx + dy * dy + dz * dz <= h * h;
     }
+    /// The first candidate from the k-th on that may_touch(p, reach_m)
+    /// accepts (the same test, in a tight loop over the boxes alone), or the
+    /// candidate count if none; k itself under brute force.
+    std::size_t next_touching(std::size_t k, const Vec3& p, double reach_m) const {
+        if (all) return k;
+        const double h = reach_m + kBoxSlack_m;
+        const double h2 = h * h;
+        const double px = p.x(), py = p.y(), pz = p.z();
+        const std::size_t n = boxes.size();
+        const Aabb* box = boxes.data();
+        for (; k < n; ++k) {
+            const Aabb& b = box[k];
+            const double dx = std::max(std::max(b.min.x() - px, px - b.max.x()), 0.0);
+            const double dy = std::max(std::max(b.min.y() - py, py - b.max.y()), 0.0);
+            const double dz = std::max(std::max(b.min.z() - pz, pz - b.max.z()), 0.0);
+            if (dx * dx + dy * dy + dz * dz <= h2) return k;
+        }
+        return n;
+    }
     /// False if the k-th candidate's box is farther than `reach_m` from `p`
     /// along an axis: it cannot come within `reach_m` of `p`. The sweep's
     /// test (its hits are not decided by a closest distance alone).
