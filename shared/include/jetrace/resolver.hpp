@@ -40,7 +40,7 @@ inline constexpr double kBoxSlack_m = 1e-6;
 /// The triangles near a car: gathered, then reused by the following steps
 /// and every push-out pass while the car stays inside the gathered region.
 /// Each comes with its bounding box, so the narrow phase skips a far one
-/// with six comparisons. The vectors are scratch owned by the caller (no
+/// by its distance to the box. The vectors are scratch owned by the caller (no
 /// allocation once warm).
 struct Candidates {
     /// Ascending triangle indices whose bounds overlap `region`.
