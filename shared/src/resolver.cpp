@@ -18,21 +18,17 @@ void gather_candidates(const TrackQuery& q, const Vec3& center, double radius_m,
     if (out.all) return;
     const Vec3 slack(kBoxSlack_m, kBoxSlack_m, kBoxSlack_m);
     const Aabb query{out.region.min - slack, out.region.max + slack};
-    q.grid.for_each_candidate(query, [&](std::uint32_t t) { out.triangles.push_back(t); });
+    // The triangles whose own bounds reach the query (the grid reports
+    // every triangle bucketed in the cells it touches), filtered before the
+    // sort, which then orders only those kept.
+    q.grid.for_each_candidate(query, [&](std::uint32_t t) {
+        if (q.track.triangles[t].bounds().overlaps(query)) out.triangles.push_back(t);
+    });
     // Canonical order: ascending triangle index, the brute-force order. The
     // result of a step then does not depend on which cells were visited or
     // on how large the gathered region was, only on the geometry.
     std::sort(out.triangles.begin(), out.triangles.end());
-    // Keep the triangles whose own bounds reach the query (the grid reports
-    // every triangle bucketed in the cells it touches).
-    std::size_t kept = 0;
-    for (const std::uint32_t t : out.triangles) {
-        const Aabb b = q.track.triangles[t].bounds();
-        if (!b.overlaps(query)) continue;
-        out.triangles[kept++] = t;
-        out.boxes.push_back(b);
-    }
-    out.triangles.resize(kept);
+    for (const std::uint32_t t : out.triangles) out.boxes.push_back(q.track.triangles[t].bounds());
 }
 
 GatherReach gather_reach(const PhysicsSettings& s, GatherFor why, double motion_m) {
@@ -80,6 +76,19 @@ void for_each(const Track& track, const Candidates& cand, F&& f) {
     }
 }
 
+// The same over the candidates that may_touch(p, reach_m) accepts.
+template <class F>
+void for_each_touching(const Track& track, const Candidates& cand, const Vec3& p, double reach_m, F&& f) {
+    if (cand.all) {
+        for_each(track, cand, f);
+        return;
+    }
+    const std::size_t n = cand.triangles.size();
+    for (std::size_t k = 0; (k = cand.next_touching(k, p, reach_m)) < n; ++k) {
+        if (!f(track.triangles[cand.triangles[k]], k)) return;
+    }
+}
+
 // Direction from the surface point `q` to the centre `p`. Inside the face
 // region that is the face normal (on the centre's side), exactly: a car at
 // rest on a flat floor then feels an exactly vertical normal, not one tilted
@@ -118,7 +127,7 @@ int sweep_motion(const TrackQuery& q, const SphereMotion& car, Candidates& cand)
         const Vec3 mid = p + d * 0.5;
         const double swept_reach = 0.5 * std::sqrt(d.squaredNorm()) + r;
         for_each(track, cand, [&](const Triangle& t, std::size_t k) {
-            if (cand.may_touch(k, mid, swept_reach)) found = sweep_sphere_triangle(p, d, r, t, hit) || found;
+            if (cand.may_reach_along_axes(k, mid, swept_reach)) found = sweep_sphere_triangle(p, d, r, t, hit) || found;
             return true;
         });
         if (!found) {
@@ -147,9 +156,9 @@ void find_contacts(const TrackQuery& q, const Candidates& cand, const Vec3& cent
     out.clear();
     const double reach = q.physics.car_radius_m + q.physics.contact_skin_m;
     const double reach2 = reach * reach;
-    for_each(q.track, cand, [&](const Triangle& t, std::size_t k) {
+    for_each_touching(q.track, cand, center, reach, [&](const Triangle& t, std::size_t) {
         ClosestPoint cp;
-        if (!cand.may_touch(k, center, reach) || !closest_point_within(center, t, reach, cp)) return true;
+        if (!closest_point_within(center, t, reach, cp)) return true;
         const double d2 = (center - cp.point).squaredNorm();
         if (d2 < reach2) out.add(contact_normal(t, cp, center, std::sqrt(d2), center + t.normal));
         return true;
@@ -187,12 +196,13 @@ int push_pass(const TrackQuery& q, const SphereMotion& car, Candidates& cand, bo
     // only touching triangles do, and the cheaper reach r rejects the rest.
     double reach = collect ? query_radius : r;
     std::size_t k = 0;
-    while (k < (cand.all ? track.triangles.size() : cand.triangles.size())) {
+    std::size_t end = cand.all ? track.triangles.size() : cand.triangles.size();  // again after a gather
+    while ((k = cand.next_touching(k, position, reach)) < end) {
         const std::size_t at = k++;
         const std::uint32_t index = cand.all ? static_cast<std::uint32_t>(at) : cand.triangles[at];
         const Triangle& t = track.triangles[index];
         ClosestPoint cp;
-        if (!cand.may_touch(at, position, reach) || !closest_point_within(position, t, reach, cp)) continue;
+        if (!closest_point_within(position, t, reach, cp)) continue;
         const double d2 = (position - cp.point).squaredNorm();
         // Touching is decided exactly as a pass at reach r decides it (its
         // cheap rejections included, which rounding can tip at a distance of
@@ -218,6 +228,7 @@ int push_pass(const TrackQuery& q, const SphereMotion& car, Candidates& cand, bo
         if (keep_covered(q, position, gather_reach(s, GatherFor::contacts), cand) && !cand.all) {
             k = static_cast<std::size_t>(std::upper_bound(cand.triangles.begin(), cand.triangles.end(), index) -
                                          cand.triangles.begin());
+            end = cand.triangles.size();
         }
         if (s.push_out == PushOut::first_contact) break;
     }
@@ -271,9 +282,9 @@ ResolveStats resolve(const TrackQuery& q, const SphereMotion& car, Candidates& c
     }
     if (stats.passes == s.resolver_passes) {
         // Did the last pass leave the car clear?
-        for_each(q.track, cand, [&](const Triangle& t, std::size_t k) {
+        for_each_touching(q.track, cand, position, r, [&](const Triangle& t, std::size_t) {
             ClosestPoint cp;
-            if (!cand.may_touch(k, position, r) || !closest_point_within(position, t, r, cp)) return true;
+            if (!closest_point_within(position, t, r, cp)) return true;
             if ((position - cp.point).squaredNorm() < r2) {
                 stats.capped = true;
                 return false;
