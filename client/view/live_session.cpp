@@ -41,8 +41,11 @@ bool LiveSession::open(std::string& error) {
 }
 
 bool LiveSession::wait_welcome(std::string& error) {
+    // Welcomed, the client may still be fetching the server's track: the
+    // page is served the track's mesh, so that waits for it too.
     while (client_->state() == ClientState::connecting || client_->state() == ClientState::waiting_welcome ||
-           client_->state() == ClientState::reconnecting) {
+           client_->state() == ClientState::reconnecting ||
+           (client_->state() != ClientState::closed && client_->downloading_track())) {
         update();
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }

@@ -42,8 +42,10 @@ public:
     bool load_tracks(const LiveOptions& o, std::string& error);
     /// Opens the connection; false with a reason.
     bool open(std::string& error);
-    /// Blocks until the server welcomed the client; false with the reason
-    /// if it refused, closed, or no Welcome came in the client's windows.
+    /// Blocks until the server welcomed the client and the client has the
+    /// server's track (downloaded if it knew none with its identity); false
+    /// with the reason if it refused, closed, or no Welcome came in the
+    /// client's windows.
     bool wait_welcome(std::string& error);
     /// Handles the network and runs the ticks due by now.
     void update();
