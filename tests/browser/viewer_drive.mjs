@@ -2,15 +2,10 @@
 // viewer_drive.sh): presses the keys a player would, steering toward the
 // next gate the page's state hook shows, until the car finishes.
 // Usage: node viewer_drive.mjs URL SHOT.png
-import puppeteer from 'puppeteer-core';
+import { check, distinctColours, launchChromium } from './page_checks.mjs';
 
 const [url, shotPath] = process.argv.slice(2);
 const guard = { timeout: 90000 };  // a bound on waiting, not a timed assertion
-
-function check(ok, what) {
-  if (!ok) throw new Error('FAILED: ' + what);
-  console.log('ok: ' + what);
-}
 
 const state = (page) => page.evaluate(() => window.jetrace.state());
 const own = (s) => s.cars.find((c) => c.slot === s.ownSlot);
@@ -38,31 +33,7 @@ function keysFor(car, gates) {
   return want;
 }
 
-async function distinctColours(page, png) {
-  return page.evaluate(async (b64) => {
-    const img = new Image();
-    img.src = 'data:image/png;base64,' + b64;
-    await img.decode();
-    const c = document.createElement('canvas');
-    c.width = img.width;
-    c.height = img.height;
-    const g = c.getContext('2d');
-    g.drawImage(img, 0, 0);
-    const d = g.getImageData(0, 0, c.width, c.height).data;
-    const seen = new Set();
-    for (let i = 0; i < d.length; i += 4) seen.add((d[i] << 16) | (d[i + 1] << 8) | d[i + 2]);
-    return seen.size;
-  }, Buffer.from(png).toString('base64'));
-}
-
-const browser = await puppeteer.launch({
-  executablePath: '/usr/bin/chromium',
-  headless: true,
-  args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--window-size=1280,720'],
-  defaultViewport: { width: 1280, height: 720 },
-  timeout: 120000,
-  protocolTimeout: 120000,
-});
+const browser = await launchChromium();
 try {
   const page = await browser.newPage();
   page.on('pageerror', (e) => console.log('page error: ' + e.message));

@@ -1,18 +1,13 @@
 // Drives jetrace-view's page in headless Chromium (see viewer_replay.sh).
 // Usage: node viewer_replay.mjs URL TICK EXPECTED.json EXPECTED_GHOST.json SHOT.png
 import { readFileSync } from 'node:fs';
-import puppeteer from 'puppeteer-core';
+import { check, distinctColours, launchChromium } from './page_checks.mjs';
 
 const [url, tickText, expectedPath, ghostPath, shotPath] = process.argv.slice(2);
 const tick = Number(tickText);
 const expected = JSON.parse(readFileSync(expectedPath, 'utf8'));
 const expectedGhost = JSON.parse(readFileSync(ghostPath, 'utf8'));
 const guard = { timeout: 90000 };  // a bound on waiting, not a timed assertion
-
-function check(ok, what) {
-  if (!ok) throw new Error('FAILED: ' + what);
-  console.log('ok: ' + what);
-}
 
 // The page's cars must be exactly (===) the re-simulated ones.
 function samePositions(shown, want, what) {
@@ -42,33 +37,7 @@ function malformed(page, payload, binary) {
   }), payload, binary);
 }
 
-async function distinctColours(page, png) {
-  return page.evaluate(async (b64) => {
-    const img = new Image();
-    img.src = 'data:image/png;base64,' + b64;
-    await img.decode();
-    const c = document.createElement('canvas');
-    c.width = img.width;
-    c.height = img.height;
-    const g = c.getContext('2d');
-    g.drawImage(img, 0, 0);
-    const d = g.getImageData(0, 0, c.width, c.height).data;
-    const seen = new Set();
-    for (let i = 0; i < d.length; i += 4) seen.add((d[i] << 16) | (d[i + 1] << 8) | d[i + 2]);
-    return seen.size;
-  }, Buffer.from(png).toString('base64'));
-}
-
-const browser = await puppeteer.launch({
-  executablePath: '/usr/bin/chromium',
-  headless: true,
-  args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--window-size=1280,720'],
-  defaultViewport: { width: 1280, height: 720 },
-  // Chromium's start (SwiftShader, a fresh profile) took over puppeteer's
-  // default 30 s once on a loaded 2-core machine: wait longer for it.
-  timeout: 120000,
-  protocolTimeout: 120000,
-});
+const browser = await launchChromium();
 try {
   const page = await openPage(browser);
   const first = await page.evaluate(() => window.jetrace.state());
