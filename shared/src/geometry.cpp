@@ -19,8 +19,6 @@ Triangle Triangle::make(const Vec3& a, const Vec3& b, const Vec3& c) {
     } else {
         t.normal = n / std::sqrt(len2);
         t.thin = len2 < 1e-6 * scale * scale;
-        const Vec3 edge[3] = {b - a, c - b, a - c};
-        for (int i = 0; i < 3; ++i) t.inward[i] = t.normal.cross(edge[i]) / std::sqrt(edge[i].squaredNorm());
     }
     return t;
 }
@@ -127,11 +125,11 @@ bool closest_point_within(const Vec3& p, const Triangle& t, double reach_m, Clos
     // a triangle beyond its first edge costs one test. Each is a
     // well-conditioned dot product, so slivers are classified as exactly as
     // large triangles.
-    const double ab = (p - t.a).dot(t.inward[0]);
+    const double ab = (p - t.a).dot(t.inward(0));
     if (ab < -reach_m) return false;
-    const double bc = (p - t.b).dot(t.inward[1]);
+    const double bc = (p - t.b).dot(t.inward(1));
     if (bc < -reach_m) return false;
-    const double ca = (p - t.c).dot(t.inward[2]);
+    const double ca = (p - t.c).dot(t.inward(2));
     if (ca < -reach_m) return false;
     // The face: the projection onto the plane (the common case, and the only
     // well-conditioned one for a sliver).

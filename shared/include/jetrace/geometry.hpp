@@ -30,13 +30,6 @@ struct Triangle {
     Vec3 a{0, 0, 0}, b{0, 0, 0}, c{0, 0, 0};
     /// Unit normal by the right-hand rule over (a, b, c); zero if degenerate.
     Vec3 normal{0, 0, 0};
-    /// Inward unit normals of the edges ab, bc and ca in the triangle's plane
-    /// (normal x edge; zero if degenerate). (p - a).inward[0] is p's distance
-    /// inside edge ab (negative: outside); p projects onto the face exactly
-    /// when all three are >= 0, and is farther than d from the triangle if
-    /// one is below -d. Precomputed because most contact queries land on a
-    /// face (a car on the floor) or beside it (the floor's next triangle).
-    Vec3 inward[3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
     /// True when the triangle has (almost) no area: it is then treated as its
     /// three edges.
     bool degenerate = false;
@@ -47,6 +40,18 @@ struct Triangle {
 
     static Triangle make(const Vec3& a, const Vec3& b, const Vec3& c);
     Aabb bounds() const;
+
+    /// Inward unit normal of edge i (0: ab, 1: bc, 2: ca) in the triangle's
+    /// plane (normal x edge; only for a triangle that is not degenerate).
+    /// (p - a).inward(0) is p's distance inside edge ab (negative: outside);
+    /// p projects onto the face exactly when all three are >= 0, and is
+    /// farther than d from the triangle if one is below -d. Computed when
+    /// asked rather than stored: the three would make up 72 of a triangle's
+    /// bytes, and most candidates are rejected by the first one or two.
+    Vec3 inward(int i) const {
+        const Vec3 edge = i == 0 ? Vec3(b - a) : (i == 1 ? Vec3(c - b) : Vec3(a - c));
+        return normal.cross(edge) / std::sqrt(edge.squaredNorm());
+    }
 };
 
 /// Which feature of the triangle the closest point lies on.
