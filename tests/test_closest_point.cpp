@@ -206,7 +206,7 @@ TEST(ClosestPoint, EveryRegionOfATiltedTriangle) {
     const Vec3 a(1.5, 2.0, -3.0), b(9.0, 4.5, 1.0), c(-2.0, 7.0, 5.5);
     const Triangle t = Triangle::make(a, b, c);
     ASSERT_FALSE(t.degenerate);
-    const Vec3 n = t.normal;
+    const Vec3 n = t.normal();
     EXPECT_NEAR(n.norm(), 1.0, 1e-12);
     EXPECT_NEAR(n.dot(b - a), 0.0, 1e-12);
     EXPECT_NEAR(n.dot(c - a), 0.0, 1e-12);
@@ -359,7 +359,7 @@ TEST(ClosestPoint, DegenerateTriangles) {
     for (const Named& s : shapes) {
         const Triangle t0 = Triangle::make(s.a, s.b, s.c);
         EXPECT_TRUE(t0.degenerate) << s.label;
-        EXPECT_EQ(t0.normal, Vec3::Zero()) << s.label;
+        EXPECT_EQ(t0.normal(), Vec3::Zero()) << s.label;
         random_points_agree(rng, t0, 600, std::string(s.label) + " (axis coordinates)");
     }
     // Exactly collinear vertices survive translation but not rotation; the

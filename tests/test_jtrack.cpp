@@ -46,7 +46,7 @@ void expect_same(const Track& a, const Track& b) {
         const jetrace::Triangle& x = a.triangles[i];
         const jetrace::Triangle& y = b.triangles[i];
         ASSERT_TRUE(same_bits(x.a, y.a) && same_bits(x.b, y.b) && same_bits(x.c, y.c) &&
-                    same_bits(x.normal, y.normal) && x.degenerate == y.degenerate && x.thin == y.thin)
+                    same_bits(x.normal(), y.normal()) && x.degenerate == y.degenerate && x.thin == y.thin)
             << "triangle " << i;
     }
     EXPECT_TRUE(same_bits(a.bounds.min, b.bounds.min) && same_bits(a.bounds.max, b.bounds.max));

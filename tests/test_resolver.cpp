@@ -179,7 +179,7 @@ TEST(Resolver, SeedBugEpsilonZeroFallsThroughFloor) {
     ASSERT_EQ(validate(failing), "");
     {
         const Scene sc = make_scene(m, failing);
-        ASSERT_EQ(sc.track.triangles[0].normal, Vec3(-1, 0, 0)) << "the wall must come first";
+        ASSERT_EQ(sc.track.triangles[0].normal(), Vec3(-1, 0, 0)) << "the wall must come first";
         WorldState st = one_car(start, Vec3(20, 0, 0));
         StepScratch scratch;
         double min_y = 1e300;
@@ -475,7 +475,7 @@ TEST(Resolver, PushOutContactsEqualFindContactsWhateverTheHint) {
         double u = unit(rng), v = unit(rng);
         if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
         const Vec3 on = t.a + (t.b - t.a) * u + (t.c - t.a) * v;
-        Vec3 start = on + (t.degenerate ? kWorldUp : t.normal) * offset(rng);
+        Vec3 start = on + (t.degenerate ? kWorldUp : t.normal()) * offset(rng);
         Vec3 velocity(speed(rng), speed(rng), speed(rng));
         quantize_motion(start, velocity);
         const Vec3 from = start - velocity * ps.dt_s();

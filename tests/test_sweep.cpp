@@ -20,7 +20,7 @@ Triangle floor_triangle() { return Triangle::make(Vec3(0, 0, 0), Vec3(0, 0, 10),
 
 TEST(Sweep, FaceHitAtExactTime) {
     const Triangle t = floor_triangle();
-    ASSERT_NEAR(t.normal.y(), 1.0, 1e-15);
+    ASSERT_NEAR(t.normal().y(), 1.0, 1e-15);
     SweepHit hit;
     // Centre from y = 10.5 straight down by 16: touches at y = 2.5, t = 0.5.
     ASSERT_TRUE(sweep_sphere_triangle(Vec3(2, 10.5, 2), Vec3(0, -16, 0), 2.5, t, hit));

@@ -15,9 +15,7 @@ Triangle Triangle::make(const Vec3& a, const Vec3& b, const Vec3& c) {
     const double scale = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
     if (!(len2 > 1e-20 * scale * scale) || scale == 0.0) {
         t.degenerate = true;
-        t.normal = Vec3::Zero();
     } else {
-        t.normal = n / std::sqrt(len2);
         t.thin = len2 < 1e-6 * scale * scale;
     }
     return t;
@@ -119,21 +117,22 @@ bool closest_point_within(const Vec3& p, const Triangle& t, double reach_m, Clos
         out = closest_on_edges(p, t);
         return true;
     }
-    const double h = (p - t.a).dot(t.normal);
+    const Vec3 n = t.normal();
+    const double h = (p - t.a).dot(n);
     if (h > reach_m || h < -reach_m) return false;
     // p's distance inside each edge (Triangle::inward), edge by edge, so that
     // a triangle beyond its first edge costs one test. Each is a
     // well-conditioned dot product, so slivers are classified as exactly as
     // large triangles.
-    const double ab = (p - t.a).dot(t.inward(0));
+    const double ab = (p - t.a).dot(t.inward(0, n));
     if (ab < -reach_m) return false;
-    const double bc = (p - t.b).dot(t.inward(1));
+    const double bc = (p - t.b).dot(t.inward(1, n));
     if (bc < -reach_m) return false;
-    const double ca = (p - t.c).dot(t.inward(2));
+    const double ca = (p - t.c).dot(t.inward(2, n));
     if (ca < -reach_m) return false;
     // The face: the projection onto the plane (the common case, and the only
     // well-conditioned one for a sliver).
-    out = ab >= 0.0 && bc >= 0.0 && ca >= 0.0 ? ClosestPoint{p - t.normal * h, TriRegion::face}
+    out = ab >= 0.0 && bc >= 0.0 && ca >= 0.0 ? ClosestPoint{p - n * h, TriRegion::face}
                                               : closest_outside_face(p, t);
     return true;
 }

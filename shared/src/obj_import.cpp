@@ -333,7 +333,7 @@ bool fit_gate(long number, const std::vector<Vec3>& verts, const Group& g, const
     if (pts.size() != 4) return fail(error, what + "needs exactly one quad (or two triangles over 4 vertices)");
     const Triangle t0 = Triangle::make(verts[g.idx[0]], verts[g.idx[1]], verts[g.idx[2]]);
     const Triangle t1 = Triangle::make(verts[g.idx[3]], verts[g.idx[4]], verts[g.idx[5]]);
-    if (t0.degenerate || t1.degenerate || !(t0.normal.dot(t1.normal) > 0.0)) {
+    if (t0.degenerate || t1.degenerate || !(t0.normal().dot(t1.normal()) > 0.0)) {
         return fail(error, what + "its quad has no area or its two triangles face opposite ways");
     }
     const Vec3 n1 = (t0.b - t0.a).cross(t0.c - t0.a), n2 = (t1.b - t1.a).cross(t1.c - t1.a);

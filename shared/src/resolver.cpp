@@ -93,15 +93,21 @@ void for_each_touching(const Track& track, const Candidates& cand, const Vec3& p
 // region that is the face normal (on the centre's side), exactly: a car at
 // rest on a flat floor then feels an exactly vertical normal, not one tilted
 // by the rounding of the closest point. If the centre lies on the triangle,
-// the face normal on the side the car came from.
-Vec3 contact_normal(const Triangle& t, const ClosestPoint& cp, const Vec3& p, double dist, const Vec3& came_from) {
+// the face normal on the side the car came from (`came_from`; nullptr: p +
+// the normal, the normal's own side).
+Vec3 contact_normal(const Triangle& t, const ClosestPoint& cp, const Vec3& p, double dist, const Vec3* came_from) {
     const Vec3& q = cp.point;
     if (dist > 1e-9) {
-        if (cp.region == TriRegion::face && !t.degenerate) return (p - q).dot(t.normal) < 0.0 ? Vec3(-t.normal) : t.normal;
+        if (cp.region == TriRegion::face && !t.degenerate) {
+            const Vec3 n = t.normal();
+            return (p - q).dot(n) < 0.0 ? Vec3(-n) : n;
+        }
         return (p - q) / dist;
     }
     if (t.degenerate) return kWorldUp;
-    return (came_from - q).dot(t.normal) < 0.0 ? Vec3(-t.normal) : t.normal;
+    const Vec3 n = t.normal();
+    const Vec3 from = came_from != nullptr ? *came_from : Vec3(p + n);
+    return (from - q).dot(n) < 0.0 ? Vec3(-n) : n;
 }
 
 // The swept phase: moves the car from `from` towards `position` until its
@@ -160,7 +166,7 @@ void find_contacts(const TrackQuery& q, const Candidates& cand, const Vec3& cent
         ClosestPoint cp;
         if (!closest_point_within(center, t, reach, cp)) return true;
         const double d2 = (center - cp.point).squaredNorm();
-        if (d2 < reach2) out.add(contact_normal(t, cp, center, std::sqrt(d2), center + t.normal));
+        if (d2 < reach2) out.add(contact_normal(t, cp, center, std::sqrt(d2), nullptr));
         return true;
     });
 }
@@ -215,12 +221,12 @@ int push_pass(const TrackQuery& q, const SphereMotion& car, Candidates& cand, bo
         }
         if (!touching) {
             if (collect && pushes == 0 && d2 < query2) {
-                contacts.add(contact_normal(t, cp, position, std::sqrt(d2), position + t.normal));
+                contacts.add(contact_normal(t, cp, position, std::sqrt(d2), nullptr));
             }
             continue;
         }
         reach = r;
-        const Vec3 n = contact_normal(t, cp, position, std::sqrt(d2), car.from);
+        const Vec3 n = contact_normal(t, cp, position, std::sqrt(d2), &car.from);
         position = cp.point + n * target;
         const double vn = velocity.dot(n);
         if (vn < 0.0) velocity -= n * vn;  // inelastic: no velocity into the surface

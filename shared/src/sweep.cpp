@@ -50,7 +50,7 @@ bool sweep_edge(const Vec3& p0, const Vec3& d, double r, const Vec3& a, const Ve
 
 // True if p (on the triangle's plane) is inside or on the triangle.
 bool inside(const Triangle& tri, const Vec3& p) {
-    const Vec3& n = tri.normal;
+    const Vec3 n = tri.normal();
     return (tri.b - tri.a).cross(p - tri.a).dot(n) >= 0.0 && (tri.c - tri.b).cross(p - tri.b).dot(n) >= 0.0 &&
            (tri.a - tri.c).cross(p - tri.c).dot(n) >= 0.0;
 }
@@ -59,7 +59,7 @@ bool inside(const Triangle& tri, const Vec3& p) {
 
 bool sweep_sphere_triangle(const Vec3& p0, const Vec3& d, double r, const Triangle& tri, SweepHit& hit) {
     if (!tri.degenerate) {
-        Vec3 n = tri.normal;
+        Vec3 n = tri.normal();
         double s0 = (p0 - tri.a).dot(n);
         double dn = d.dot(n);
         if (s0 < 0.0 || (s0 == 0.0 && dn > 0.0)) {  // the sphere is on the back side

@@ -7,7 +7,7 @@ namespace jetrace::detail {
 bool raycast(const std::vector<Triangle>& tris, const Vec3& o, const Vec3& d, double& best_t, Vec3& best_n) {
     std::size_t index = 0;
     if (!raycast_index(tris, o, d, best_t, index)) return false;
-    best_n = tris[index].normal;
+    best_n = tris[index].normal();
     return true;
 }
 

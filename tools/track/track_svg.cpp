@@ -42,7 +42,7 @@ void mesh_cells(const Track& t, const Frame& f, std::string& out) {
     auto cell = [&](double px, int n) { return std::clamp(static_cast<int>(px / cell_px), 0, n - 1); };
     for (const Triangle& tri : t.triangles) {
         const Aabb b = tri.bounds();
-        const unsigned char k = std::abs(tri.normal.y()) >= 0.5 ? 1 : 2;
+        const unsigned char k = std::abs(tri.normal().y()) >= 0.5 ? 1 : 2;
         const int c0 = cell(f.x(b.min.x()), cols), c1 = cell(f.x(b.max.x()), cols);
         const int r0 = cell(f.y(b.min.z()), rows), r1 = cell(f.y(b.max.z()), rows);
         for (int r = r0; r <= r1; ++r)

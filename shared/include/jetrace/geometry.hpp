@@ -28,8 +28,6 @@ struct Aabb {
 /// A track triangle with the data the resolver needs precomputed.
 struct Triangle {
     Vec3 a{0, 0, 0}, b{0, 0, 0}, c{0, 0, 0};
-    /// Unit normal by the right-hand rule over (a, b, c); zero if degenerate.
-    Vec3 normal{0, 0, 0};
     /// True when the triangle has (almost) no area: it is then treated as its
     /// three edges.
     bool degenerate = false;
@@ -43,14 +41,24 @@ struct Triangle {
 
     /// Inward unit normal of edge i (0: ab, 1: bc, 2: ca) in the triangle's
     /// plane (normal x edge; only for a triangle that is not degenerate).
-    /// (p - a).inward(0) is p's distance inside edge ab (negative: outside);
+    /// (p - a).inward(0, normal()) is p's distance inside edge ab (negative: outside);
     /// p projects onto the face exactly when all three are >= 0, and is
     /// farther than d from the triangle if one is below -d. Computed when
-    /// asked rather than stored: the three would make up 72 of a triangle's
-    /// bytes, and most candidates are rejected by the first one or two.
-    Vec3 inward(int i) const {
+    /// asked rather than stored (with the normal, 96 of what would be 176
+    /// bytes a triangle): most candidates are rejected by the plane or the
+    /// first edge.
+    Vec3 inward(int i, const Vec3& unit_normal) const {
         const Vec3 edge = i == 0 ? Vec3(b - a) : (i == 1 ? Vec3(c - b) : Vec3(a - c));
-        return normal.cross(edge) / std::sqrt(edge.squaredNorm());
+        return unit_normal.cross(edge) / std::sqrt(edge.squaredNorm());
+    }
+
+    /// Unit normal by the right-hand rule over (a, b, c); zero if degenerate.
+    /// Computed when asked (a cross product and a square root), as make()
+    /// computed it to decide `degenerate`: the same bits every time.
+    Vec3 normal() const {
+        if (degenerate) return Vec3::Zero();
+        const Vec3 n = (b - a).cross(c - a);
+        return n / std::sqrt(n.squaredNorm());
     }
 };
 
