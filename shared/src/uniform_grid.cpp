@@ -121,8 +121,24 @@ std::int64_t UniformGrid::entry_budget(std::size_t triangles) {
     return std::min(kOffsetLimit, std::max(kMinEntryBudget, per_tri));
 }
 
-double UniformGrid::cell_size_for(const Aabb& bounds, double car_radius_m) {
-    return fit_axes(bounds, 4.0 * car_radius_m);
+double UniformGrid::typical_extent_m(const std::vector<Triangle>& triangles) {
+    if (triangles.empty()) return 0.0;
+    std::vector<double> largest(triangles.size());
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+        const Aabb b = triangles[t].bounds();
+        largest[t] = std::max({extent(b, 0), extent(b, 1), extent(b, 2)});
+    }
+    const auto mid = largest.begin() + static_cast<std::ptrdiff_t>(largest.size() / 2);
+    std::nth_element(largest.begin(), mid, largest.end());
+    return *mid;
+}
+
+double UniformGrid::cell_size_for(const std::vector<Triangle>& triangles, const Aabb& bounds, double car_radius_m) {
+    const double lo = kMinCellRadii * car_radius_m, hi = kMaxCellRadii * car_radius_m;
+    const double typical = typical_extent_m(triangles);
+    // Not std::clamp: lo is NaN for a NaN radius (fit_axes then starts
+    // from the finest edge the key allows).
+    return fit_axes(bounds, typical > lo ? std::min(typical, hi) : lo);
 }
 
 void UniformGrid::set_cell_size(double cell_m) {
@@ -140,7 +156,7 @@ UniformGrid::UniformGrid(const std::vector<Triangle>& triangles, const Aabb& bou
     // Bucket every triangle; grow the edge while the pairs exceed the budget
     // (by the square root of the excess: a large flat triangle's pairs fall
     // with the square of the edge).
-    double size = cell_size_m > 0.0 ? fit_axes(bounds, cell_size_m) : cell_size_for(bounds, car_radius_m);
+    double size = cell_size_m > 0.0 ? fit_axes(bounds, cell_size_m) : cell_size_for(triangles, bounds, car_radius_m);
     const double budget = static_cast<double>(entry_budget(n));
     std::vector<CellRange> ranges(n);
     double pairs = 0.0;

@@ -25,10 +25,18 @@
 // 12 bytes per triangle (see memory_bytes), independent of the bounding
 // volume.
 //
-// Cell size rule (see cell_size_for): the edge is 4 car radii (10 m for
-// r = 2.5 m: a car's box, 2r + skin wide, then touches at most 8 and on
-// average about 2 cells), whatever the track's extent. Only two limits can
-// make it larger:
+// Cell size rule (see cell_size_for): the edge is the typical triangle's
+// size (the median over the triangles of their box's largest extent),
+// clamped between 4 and 16 car radii (10 m and 40 m for r = 2.5 m). A car's
+// box (2r + skin wide) then touches at most 8 cells. Cells as large as the
+// typical triangle store each triangle in about 2 to 4 cells instead of
+// about 20 (the stadium's 35 m squares in 10 m cells), and, measured with
+// `jetrace-bench density --cell-m`, cost the step no more. Cells finer
+// than 10 m cost more per step on the tracks measured and save at most a
+// few percent (within the machine's noise) on the 2 M-triangle landscape
+// of 1 m triangles, so the edge stays 4 radii on fine meshes. The step's results do not depend on the edge
+// (the gather sorts its candidates), only its cost and the grid's memory.
+// Only two limits can make the edge larger:
 //   - the key: each axis holds at most kMaxAxisCells = 2^21 cells (so the
 //     key fits 63 bits); a track within kMaxTrackCoordinate_m (1e6 m) needs
 //     2e5 cells per axis at 10 m, so this only grows a tiny explicit size or
@@ -36,7 +44,7 @@
 //   - the pair budget: if the triangle-cell pairs would exceed
 //     entry_budget(triangles) (32 per triangle on average, or 2^22 in all,
 //     whichever is larger), the constructor grows the edge until they fit.
-//     Normal tracks are far below it (the stadium: 20 per triangle); it
+//     Normal tracks are far below it (truck_town: 18 per triangle); it
 //     guards against a few huge triangles (a 2,000 km ground quad would be
 //     4e10 cells at 10 m).
 #pragma once
@@ -66,9 +74,16 @@ public:
     static constexpr std::int64_t kEntriesPerTriangle = 32;
     static std::int64_t entry_budget(std::size_t triangles);
 
-    /// The documented rule for the cell edge (unit: m): 4 car radii, grown
-    /// only if an axis of `bounds` would exceed kMaxAxisCells.
-    static double cell_size_for(const Aabb& bounds, double car_radius_m);
+    /// The rule's bounds on the cell edge (unit: car radii).
+    static constexpr double kMinCellRadii = 4.0;
+    static constexpr double kMaxCellRadii = 16.0;
+    /// The typical triangle's size (unit: m): the median over `triangles`
+    /// of their box's largest extent (0 if there are none).
+    static double typical_extent_m(const std::vector<Triangle>& triangles);
+    /// The documented rule for the cell edge (unit: m): typical_extent_m
+    /// clamped to [kMinCellRadii, kMaxCellRadii] car radii, grown only if an
+    /// axis of `bounds` would exceed kMaxAxisCells.
+    static double cell_size_for(const std::vector<Triangle>& triangles, const Aabb& bounds, double car_radius_m);
 
     UniformGrid() = default;
     /// Builds over `triangles` with `cell_size_m` (0 = cell_size_for). An
