@@ -34,8 +34,9 @@
 // `jetrace-bench density --cell-m`, cost the step no more. Cells finer
 // than 10 m cost more per step on the tracks measured and save at most a
 // few percent (within the machine's noise) on the 2 M-triangle landscape
-// of 1 m triangles, so the edge stays 4 radii on fine meshes. The step's results do not depend on the edge
-// (the gather sorts its candidates), only its cost and the grid's memory.
+// of 1 m triangles, so the edge stays 4 radii on fine meshes. The step's
+// results do not depend on the edge (the gather sorts its candidates),
+// only its cost and the grid's memory.
 // Only two limits can make the edge larger:
 //   - the key: each axis holds at most kMaxAxisCells = 2^21 cells (so the
 //     key fits 63 bits); a track within kMaxTrackCoordinate_m (1e6 m) needs
