@@ -248,10 +248,10 @@ TEST(SparseGrid, CellEdgeIgnoresTheExtentAndMemoryFollowsEntries) {
         EXPECT_EQ(g->cell_size_m(), 10.0);
         EXPECT_GT(dense_cells, 5e8);
         EXPECT_LE(g->cell_count(), static_cast<std::int64_t>(g->entry_count()));
-        // 4 bytes per pair, at most 32 per occupied cell (4-byte hash slots
-        // at load >= 1/4, 16-byte cell record) and 12 per triangle (its
+        // 4 bytes per pair, at most 28 per occupied cell (4-byte hash slots
+        // at load >= 1/4, 12-byte cell record) and 12 per triangle (its
         // lowest cell).
-        EXPECT_LE(g->memory_bytes(), 4 * g->entry_count() + 32 * std::size_t(g->cell_count()) +
+        EXPECT_LE(g->memory_bytes(), 4 * g->entry_count() + 28 * std::size_t(g->cell_count()) +
                                          12 * near.triangles.size() + 32);
         // A dense grid's offsets alone would take 4 bytes per cell.
         EXPECT_LT(double(g->memory_bytes()), 4 * dense_cells / 1000);

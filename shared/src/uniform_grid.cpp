@@ -182,14 +182,20 @@ UniformGrid::UniformGrid(const std::vector<Triangle>& triangles, const Aabb& bou
     std::vector<CellRange>().swap(ranges);
     items_ = std::move(sorted.items);
     const std::size_t occupied = sorted.keys.size();
-    cells_.resize(occupied + 1);
-    for (std::size_t c = 0; c < occupied; ++c) cells_[c] = Cell{sorted.keys[c], sorted.start[c], sorted.start[c + 1]};
-    cells_[occupied] = Cell{kNoKey, 0, 0};
+    cells_.resize(occupied + 2);
+    const auto cell = [](std::uint64_t key, std::uint32_t begin) {
+        return Cell{static_cast<std::uint32_t>(key), static_cast<std::uint32_t>(key >> 32), begin};
+    };
+    for (std::size_t c = 0; c < occupied; ++c) cells_[c] = cell(sorted.keys[c], sorted.start[c]);
+    // The empty cell's triangles: [total, total).
+    const auto total = static_cast<std::uint32_t>(items_.size());
+    cells_[occupied] = cell(kNoKey, total);
+    cells_[occupied + 1] = cell(kNoKey, total);
     build_table();
 }
 
 void UniformGrid::build_table() {
-    const std::size_t occupied = cells_.size() - 1;
+    const std::size_t occupied = cells_.size() - 2;  // less the empty cell and the end marker
     std::size_t capacity = 2;
     while (capacity < 2 * occupied) capacity *= 2;  // load <= 0.5
     empty_ = static_cast<std::uint32_t>(occupied);
@@ -198,7 +204,7 @@ void UniformGrid::build_table() {
     slots_.assign(capacity, empty_);
     // In ascending key order, so the layout depends on the geometry only.
     for (std::size_t c = 0; c < occupied; ++c) {
-        std::size_t i = slot_of(cells_[c].key);
+        std::size_t i = slot_of(cells_[c].key());
         while (slots_[i] != empty_) i = (i + 1) & mask_;
         slots_[i] = static_cast<std::uint32_t>(c);
     }
