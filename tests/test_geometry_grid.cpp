@@ -240,7 +240,7 @@ Track random_mesh(std::mt19937_64& rng, int count) {
 TEST(GridVsBruteForce, Stadium) {
     const Track track = make_oval(stadium_params());
     ASSERT_GT(track.triangles.size(), 1000u);
-    // 0 = the documented default rule (10 m here). A 3 m grid over the
+    // 0 = the documented default rule (the median triangle, 35 m). A 3 m grid over the
     // stadium's 1.7 km x 1 km x 0.4 km box would hold 25 million cells
     // (300 MB while building), so the finest explicit size here is 5 m; the
     // 3 m grid is exercised on the random mesh.
@@ -260,24 +260,32 @@ TEST(GridVsBruteForce, RandomMesh) {
 }
 
 TEST(GridVsBruteForce, CellSizeRule) {
-    // The documented rule: the edge is 4 car radii whatever the track's
+    // The documented rule: the edge is the median triangle's largest box
+    // extent, clamped between 4 and 16 car radii, whatever the track's
     // extent; only the key (at most 2^21 cells per axis) can grow it.
     const Track stadium = make_oval(stadium_params());
-    EXPECT_EQ(UniformGrid::cell_size_for(stadium.bounds, 2.5), 10.0);
+    const double typical = UniformGrid::typical_extent_m(stadium.triangles);
+    EXPECT_GT(typical, 10.0);  // its floor squares are 35 m wide
+    EXPECT_LT(typical, 40.0);
+    EXPECT_EQ(UniformGrid::cell_size_for(stadium.triangles, stadium.bounds, 2.5), typical);
     const UniformGrid g(stadium.triangles, stadium.bounds, 2.5);
-    EXPECT_EQ(g.cell_size_m(), 10.0);
+    EXPECT_EQ(g.cell_size_m(), typical);
     // cell_count() counts occupied cells only.
     EXPECT_GT(g.cell_count(), 0);
     EXPECT_LE(g.cell_count(), static_cast<std::int64_t>(g.entry_count()));
+    // The clamp: 4 radii for small triangles (or none), 16 for huge ones.
+    EXPECT_EQ(UniformGrid::cell_size_for({}, stadium.bounds, 2.5), 10.0);
+    EXPECT_EQ(UniformGrid::cell_size_for(stadium.triangles, stadium.bounds, 1.0), 16.0);
+    EXPECT_EQ(UniformGrid::cell_size_for(stadium.triangles, stadium.bounds, 20.0), 80.0);
     // A 200 km box, and the largest box a track may span (2,000 km), keep 10 m cells.
     const Aabb huge{Vec3(-1e5, -1e3, -1e5), Vec3(1e5, 1e3, 1e5)};
-    EXPECT_EQ(UniformGrid::cell_size_for(huge, 2.5), 10.0);
+    EXPECT_EQ(UniformGrid::cell_size_for({}, huge, 2.5), 10.0);
     const double m = kMaxTrackCoordinate_m;
     const Aabb largest{Vec3(-m, -m, -m), Vec3(m, m, m)};
-    EXPECT_EQ(UniformGrid::cell_size_for(largest, 2.5), 10.0);
+    EXPECT_EQ(UniformGrid::cell_size_for({}, largest, 2.5), 10.0);
     // A radius too small for the key: the edge grows by factors of 1.0625
     // until every axis fits, and stops at the first that does.
-    const double grown = UniformGrid::cell_size_for(largest, 1e-4);
+    const double grown = UniformGrid::cell_size_for({}, largest, 1e-4);
     EXPECT_LE(std::floor(2 * m * (1.0 / grown)) + 1, UniformGrid::kMaxAxisCells);
     EXPECT_LE(grown, 1.0625 * 2 * m / (UniformGrid::kMaxAxisCells - 1) * (1 + 1e-9));
     // An explicit size is kept when the key allows it.
@@ -392,7 +400,7 @@ TEST(GridRegression, InclinedAndFlatPlanesAreFound) {
         for (double cs : {0.0, 3.0, 10.0, 37.0}) plane_is_found(plane, L, cs, rng);
     }
     // A flat floor at y = 20 with the track's bounds starting at y = 0, so the
-    // floor lies exactly on a cell boundary of the 10 m (and default) grid.
+    // floor lies exactly on a cell boundary of the 10 m grid.
     const Plane raised = tilted_plane(0.0, Vec3(0, 20, 0), L, {Vec3(0, 0, 0)});
     ASSERT_EQ(raised.track.bounds.min.y(), 0.0);
     for (double cs : {0.0, 5.0, 10.0, 20.0}) plane_is_found(raised, L, cs, rng);

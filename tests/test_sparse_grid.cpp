@@ -214,22 +214,32 @@ TEST(SparseGrid, MatchesBruteForceOnWideSparseTrack) {
     JETRACE_SEEDED_RNG(rng);
     const Track track = wide_sparse_track(&rng, 1.0);
     ASSERT_EQ(track.triangles.size(), 2 + 5 * 1384u + 3340);
-    const UniformGrid grid(track.triangles, track.bounds, 2.5);
+    // 10 m cells: the lattice the stadiums and the snapped triangles sit on.
+    const UniformGrid grid(track.triangles, track.bounds, 2.5, 10.0);
     ASSERT_EQ(grid.cell_size_m(), 10.0);
     sparse_grid_matches_brute_force(track, grid, track.bounds, rng, 4000, 1400);
     // Bounds smaller than the mesh: buckets and queries clamp to the edge
     // cells, which then hold many triangles; each is still reported once.
     const Aabb shrunk{track.bounds.min + Vec3(2500, 0, 1200), track.bounds.max - Vec3(2500, 600, 1200)};
-    const UniformGrid clamped(track.triangles, shrunk, 2.5);
+    const UniformGrid clamped(track.triangles, shrunk, 2.5, 10.0);
     sparse_grid_matches_brute_force(track, clamped, shrunk, rng, 2000, 300);
+    // The rule's edge (the typical triangle: the stadiums' 35 m squares).
+    const UniformGrid ruled(track.triangles, track.bounds, 2.5);
+    ASSERT_GT(ruled.cell_size_m(), 10.0);
+    sparse_grid_matches_brute_force(track, ruled, track.bounds, rng, 2000, 700);
 }
 
-TEST(SparseGrid, CellEdgeStaysFourRadiiAndMemoryFollowsEntries) {
-    // Five stadiums over 54 km x 22 km, then the same over 108 km x 44 km.
+TEST(SparseGrid, CellEdgeIgnoresTheExtentAndMemoryFollowsEntries) {
+    // Five stadiums over 54 km x 22 km, then the same over 108 km x 44 km:
+    // the rule's edge is the same for both (to the rounding of the shifted
+    // corners).
     const Track near = wide_sparse_track(nullptr, 1.0);
     const Track far = wide_sparse_track(nullptr, 2.0);
-    const UniformGrid a(near.triangles, near.bounds, 2.5);
-    const UniformGrid b(far.triangles, far.bounds, 2.5);
+    const double edge = UniformGrid::cell_size_for(near.triangles, near.bounds, 2.5);
+    EXPECT_NEAR(UniformGrid::cell_size_for(far.triangles, far.bounds, 2.5), edge, 1e-9 * edge);
+    // On the 10 m lattice the stadiums sit on, so that both bucket alike.
+    const UniformGrid a(near.triangles, near.bounds, 2.5, 10.0);
+    const UniformGrid b(far.triangles, far.bounds, 2.5, 10.0);
     for (const UniformGrid* g : {&a, &b}) {
         const double dense_cells = double(g->dims()[0]) * g->dims()[1] * g->dims()[2];
         SCOPED_TRACE("dims " + std::to_string(g->dims()[0]) + "x" + std::to_string(g->dims()[1]) + "x" +
@@ -238,10 +248,10 @@ TEST(SparseGrid, CellEdgeStaysFourRadiiAndMemoryFollowsEntries) {
         EXPECT_EQ(g->cell_size_m(), 10.0);
         EXPECT_GT(dense_cells, 5e8);
         EXPECT_LE(g->cell_count(), static_cast<std::int64_t>(g->entry_count()));
-        // 4 bytes per pair, at most 32 per occupied cell (4-byte hash slots
-        // at load >= 1/4, 16-byte cell record) and 12 per triangle (its
+        // 4 bytes per pair, at most 28 per occupied cell (4-byte hash slots
+        // at load >= 1/4, 12-byte cell record) and 12 per triangle (its
         // lowest cell).
-        EXPECT_LE(g->memory_bytes(), 4 * g->entry_count() + 32 * std::size_t(g->cell_count()) +
+        EXPECT_LE(g->memory_bytes(), 4 * g->entry_count() + 28 * std::size_t(g->cell_count()) +
                                          12 * near.triangles.size() + 32);
         // A dense grid's offsets alone would take 4 bytes per cell.
         EXPECT_LT(double(g->memory_bytes()), 4 * dense_cells / 1000);

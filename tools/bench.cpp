@@ -211,6 +211,10 @@ int main(int argc, char** argv) {
         ->check(jetrace::cli::finite() & CLI::Range(0.1, 600.0));
     density->add_option("--repeats", density_opts.repeats, "timed races per density; the median is reported")
         ->check(CLI::Range(1, 50));
+    density->add_option("--track", density_opts.tracks, "tracks timed after the landscapes (built-in name or file)");
+    density->add_option("--cell-m", density_opts.cell_sizes_m,
+                        "grid cell edges compared side by side in each round (m; 0 = the grid's rule)")
+        ->check(jetrace::cli::finite() & CLI::Range(0.0, 1e4));
     LandscapeOptions landscape_opts;
     auto* landscape = add_landscape(app, landscape_opts);
     CLI11_PARSE(app, argc, argv);

@@ -121,8 +121,24 @@ std::int64_t UniformGrid::entry_budget(std::size_t triangles) {
     return std::min(kOffsetLimit, std::max(kMinEntryBudget, per_tri));
 }
 
-double UniformGrid::cell_size_for(const Aabb& bounds, double car_radius_m) {
-    return fit_axes(bounds, 4.0 * car_radius_m);
+double UniformGrid::typical_extent_m(const std::vector<Triangle>& triangles) {
+    if (triangles.empty()) return 0.0;
+    std::vector<double> largest(triangles.size());
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+        const Aabb b = triangles[t].bounds();
+        largest[t] = std::max({extent(b, 0), extent(b, 1), extent(b, 2)});
+    }
+    const auto mid = largest.begin() + static_cast<std::ptrdiff_t>(largest.size() / 2);
+    std::nth_element(largest.begin(), mid, largest.end());
+    return *mid;
+}
+
+double UniformGrid::cell_size_for(const std::vector<Triangle>& triangles, const Aabb& bounds, double car_radius_m) {
+    const double lo = kMinCellRadii * car_radius_m, hi = kMaxCellRadii * car_radius_m;
+    const double typical = typical_extent_m(triangles);
+    // Not std::clamp: lo is NaN for a NaN radius (fit_axes then starts
+    // from the finest edge the key allows).
+    return fit_axes(bounds, typical > lo ? std::min(typical, hi) : lo);
 }
 
 void UniformGrid::set_cell_size(double cell_m) {
@@ -140,7 +156,7 @@ UniformGrid::UniformGrid(const std::vector<Triangle>& triangles, const Aabb& bou
     // Bucket every triangle; grow the edge while the pairs exceed the budget
     // (by the square root of the excess: a large flat triangle's pairs fall
     // with the square of the edge).
-    double size = cell_size_m > 0.0 ? fit_axes(bounds, cell_size_m) : cell_size_for(bounds, car_radius_m);
+    double size = cell_size_m > 0.0 ? fit_axes(bounds, cell_size_m) : cell_size_for(triangles, bounds, car_radius_m);
     const double budget = static_cast<double>(entry_budget(n));
     std::vector<CellRange> ranges(n);
     double pairs = 0.0;
@@ -166,14 +182,20 @@ UniformGrid::UniformGrid(const std::vector<Triangle>& triangles, const Aabb& bou
     std::vector<CellRange>().swap(ranges);
     items_ = std::move(sorted.items);
     const std::size_t occupied = sorted.keys.size();
-    cells_.resize(occupied + 1);
-    for (std::size_t c = 0; c < occupied; ++c) cells_[c] = Cell{sorted.keys[c], sorted.start[c], sorted.start[c + 1]};
-    cells_[occupied] = Cell{kNoKey, 0, 0};
+    cells_.resize(occupied + 2);
+    const auto cell = [](std::uint64_t key, std::uint32_t begin) {
+        return Cell{static_cast<std::uint32_t>(key), static_cast<std::uint32_t>(key >> 32), begin};
+    };
+    for (std::size_t c = 0; c < occupied; ++c) cells_[c] = cell(sorted.keys[c], sorted.start[c]);
+    // The empty cell's triangles: [total, total).
+    const auto total = static_cast<std::uint32_t>(items_.size());
+    cells_[occupied] = cell(kNoKey, total);
+    cells_[occupied + 1] = cell(kNoKey, total);
     build_table();
 }
 
 void UniformGrid::build_table() {
-    const std::size_t occupied = cells_.size() - 1;
+    const std::size_t occupied = cells_.size() - 2;  // less the empty cell and the end marker
     std::size_t capacity = 2;
     while (capacity < 2 * occupied) capacity *= 2;  // load <= 0.5
     empty_ = static_cast<std::uint32_t>(occupied);
@@ -182,7 +204,7 @@ void UniformGrid::build_table() {
     slots_.assign(capacity, empty_);
     // In ascending key order, so the layout depends on the geometry only.
     for (std::size_t c = 0; c < occupied; ++c) {
-        std::size_t i = slot_of(cells_[c].key);
+        std::size_t i = slot_of(cells_[c].key());
         while (slots_[i] != empty_) i = (i + 1) & mask_;
         slots_[i] = static_cast<std::uint32_t>(c);
     }

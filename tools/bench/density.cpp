@@ -6,8 +6,11 @@
 #include "bench/landscape.hpp"
 #include "bench/track_load.hpp"
 #include "jetrace/offline_race.hpp"
+#include "jetrace/track_io.hpp"
 
 #include <nlohmann/json.hpp>
+
+#include <stdexcept>
 
 namespace jetrace::bench {
 namespace {
@@ -36,7 +39,8 @@ Recorded record(const Scene& sc, const WorldState& start, int ticks) {
     return r;
 }
 
-double timed_ns_per_car_step(const Scene& sc, const WorldState& start, const Recorded& r, int ticks) {
+double timed_ns_per_car_step(const Scene& sc, const WorldState& start, const Recorded& r, int ticks,
+                             std::uint64_t& end_hash) {
     WorldState state = start;
     StepScratch scratch;
     const CpuTimer timer;
@@ -44,7 +48,22 @@ double timed_ns_per_car_step(const Scene& sc, const WorldState& start, const Rec
         step(sc, state, std::span<const Input>(&r.inputs[static_cast<std::size_t>(kCars) * static_cast<std::size_t>(t)], kCars),
              scratch);
     }
-    return timer.ns() / (static_cast<double>(ticks) * kCars);
+    const double ns = timer.ns() / (static_cast<double>(ticks) * kCars);
+    end_hash = state_hash(state);
+    return ns;
+}
+
+// The meshes measured: the landscape at each density, then each --track.
+std::vector<Track> meshes(const DensityOptions& o) {
+    std::vector<Track> out;
+    for (int n : o.squares) out.push_back(landscape(n));
+    for (const std::string& spec : o.tracks) {
+        Track t;
+        std::string error;
+        if (!load_track(spec, t, error)) throw std::runtime_error(spec + ": " + error);
+        out.push_back(std::move(t));
+    }
+    return out;
 }
 
 }  // namespace
@@ -52,27 +71,57 @@ double timed_ns_per_car_step(const Scene& sc, const WorldState& start, const Rec
 int run_density(const DensityOptions& o) {
     const PhysicsSettings ps;
     const int ticks = static_cast<int>(o.seconds * ps.tick_rate_hz);
-    double base = 0;
-    for (int n : o.squares) {
-        const Scene sc = Scene::make(landscape(n), ps);
-        const WorldState start = start_race(sc, kCars, 1);
-        const Recorded r = record(sc, start, ticks);
-        std::vector<double> ns;
-        for (int k = 0; k < o.repeats; ++k) ns.push_back(timed_ns_per_car_step(sc, start, r, ticks));
-        const double med = median(ns);
-        if (base == 0) base = med;
-        nlohmann::json j;
-        j["benchmark"] = "density";
-        j["track"] = sc.track.name;
-        j["triangles"] = sc.track.triangles.size();
-        j["triangle_edge_m"] = kLandscapeSide_m / n;
-        j["cars"] = kCars;
-        j["ticks"] = ticks;
-        j["ns_per_car_step"] = med;
-        j["relative_to_first"] = med / base;
-        j["candidates_per_car_step"] = r.candidates_per_car_step;
-        std::printf("%s\n", j.dump().c_str());
-        std::fflush(stdout);
+    const std::size_t cells = o.cell_sizes_m.size();
+    std::vector<double> base(cells, 0.0);
+    std::vector<Track> all;
+    try {
+        all = meshes(o);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "jetrace-bench: %s\n", e.what());
+        return 1;
+    }
+    for (std::size_t m = 0; m < all.size(); ++m) {
+        Track& track = all[m];
+        const bool landscape_mesh = m < o.squares.size();
+        // One scene per cell edge; the step's results do not depend on it.
+        std::vector<Scene> scenes;
+        for (std::size_t c = 0; c < cells; ++c) scenes.push_back(Scene::make(track, ps, o.cell_sizes_m[c]));
+        Track().triangles.swap(track.triangles);
+        const WorldState start = start_race(scenes[0], kCars, 1);
+        const Recorded r = record(scenes[0], start, ticks);
+        // Rounds: every cell edge once per round, side by side, each round
+        // starting from the next edge (the first race of a round runs slower).
+        std::vector<std::vector<double>> ns(cells);
+        std::vector<std::uint64_t> hashes(cells, 0);
+        for (int k = 0; k < o.repeats; ++k) {
+            for (std::size_t i = 0; i < cells; ++i) {
+                const std::size_t c = (i + static_cast<std::size_t>(k)) % cells;
+                ns[c].push_back(timed_ns_per_car_step(scenes[c], start, r, ticks, hashes[c]));
+            }
+        }
+        for (std::size_t c = 0; c < cells; ++c) {
+            const Scene& sc = scenes[c];
+            const double med = median(ns[c]);
+            if (base[c] == 0) base[c] = med;
+            nlohmann::json j;
+            j["benchmark"] = "density";
+            j["track"] = sc.track.name;
+            j["triangles"] = sc.track.triangles.size();
+            if (landscape_mesh) j["triangle_edge_m"] = kLandscapeSide_m / o.squares[m];
+            j["cars"] = kCars;
+            j["ticks"] = ticks;
+            j["grid_cell_m"] = sc.grid.cell_size_m();
+            j["grid_bytes_per_triangle"] = static_cast<double>(sc.grid.memory_bytes()) / static_cast<double>(sc.track.triangles.size());
+            j["ns_per_car_step"] = med;
+            j["relative_to_first"] = med / base[c];
+            if (c > 0) {
+                j["relative_to_first_cell"] = median_ratio(ns[c], ns[0]);
+                j["same_result"] = hashes[c] == hashes[0];
+            }
+            j["candidates_per_car_step"] = r.candidates_per_car_step;
+            std::printf("%s\n", j.dump().c_str());
+            std::fflush(stdout);
+        }
     }
     return 0;
 }

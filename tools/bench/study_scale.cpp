@@ -16,6 +16,7 @@
 #include "jetrace/race.hpp"
 #include "lab/scenes.hpp"
 
+#include <algorithm>
 #include <chrono>
 
 namespace jetrace::bench {
@@ -90,9 +91,12 @@ WorldState lattice(const Scene& sc, int n) {
 void study_grid_cell(const StudyOptions& o, const PhysicsSettings& ps, const Track& stadium, int ticks) {
     Csv csv(o.out_dir, "grid_cell.csv",
             {"cell_m", "cells", "entries", "grid_bytes", "build_ms", "ns_per_car_step", "is_default"});
-    const double def_cell = UniformGrid::cell_size_for(stadium.bounds, ps.car_radius_m);
-    const std::vector<double> cells = o.quick ? std::vector<double>{5, 10, 40, 160}
-                                              : std::vector<double>{5, 7.5, 10, 15, 20, 30, 40, 80, 160, 400};
+    const double def_cell = UniformGrid::cell_size_for(stadium.triangles, stadium.bounds, ps.car_radius_m);
+    std::vector<double> cells = o.quick ? std::vector<double>{5, 10, 40, 160}
+                                        : std::vector<double>{5, 7.5, 10, 15, 20, 30, 40, 80, 160, 400};
+    if (std::find(cells.begin(), cells.end(), def_cell) == cells.end()) {
+        cells.insert(std::lower_bound(cells.begin(), cells.end(), def_cell), def_cell);
+    }
     std::vector<Scene> scenes;
     std::vector<double> build_ms;
     for (double cell : cells) {

@@ -110,6 +110,7 @@ int run_track_load(const TrackLoadOptions& o) {
     j["speedup"] = obj_time.wall_ms / jtrack_time.wall_ms;
     j["speedup_cpu"] = obj_time.cpu_ms / jtrack_time.cpu_ms;
     j["grid_build_ms"] = grid_ms;
+    j["grid_cell_m"] = scene.grid.cell_size_m();
     j["identity_equal"] = scene.track.identity() == identity;
     j["triangle_struct_bytes"] = sizeof(Triangle);
     j["track_bytes_per_triangle"] = static_cast<double>(scene.track.triangles.capacity() * sizeof(Triangle)) / n;

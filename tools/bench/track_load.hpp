@@ -6,7 +6,8 @@
 //               memory grown);
 //   density     the landscape at 32 k, 130 k, 520 k and 2 M triangles: ns
 //               per car-step of 8 AI cars, triangles gathered per car-step,
-//               and the cost relative to the coarsest.
+//               and the cost relative to the coarsest; --track adds
+//               tracks, --cell-m compares cell edges in the same run.
 #pragma once
 
 #include <string>
@@ -37,6 +38,11 @@ struct DensityOptions {
     double seconds = 10;
     /// Timed races per density; the median is reported.
     int repeats = 3;
+    /// Tracks timed after the landscapes (names or paths load_track reads).
+    std::vector<std::string> tracks;
+    /// Cell edges of the collision grid, each timed side by side in every
+    /// round (unit: m; 0 = the grid's own rule).
+    std::vector<double> cell_sizes_m = {0.0};
 };
 
 int run_density(const DensityOptions& o);

@@ -10,8 +10,9 @@
 // (dims() cells per axis, coordinates clamped to them; the cell key is the
 // dense index x + dims_x * (y + dims_y * z)), but only occupied cells are
 // stored:
-//   cells_  the occupied cells by ascending key: key and CSR range into
-//           items_ (16 bytes), then one empty cell;
+//   cells_  the occupied cells by ascending key: key and CSR start into
+//           items_ (12 bytes; a cell's triangles end where the next cell's
+//           start), then one empty cell and an end marker;
 //   items_  triangle indices, ascending within a cell;
 //   slots_  an open-addressing hash table (linear probing, power-of-two
 //           capacity, load <= 0.5) from key to index in cells_.
@@ -21,14 +22,23 @@
 // sorted by (key, triangle), and the table is filled in ascending key order
 // with a fixed hash, so the layout is a pure function of the geometry
 // (nothing depends on allocation addresses or insertion history). Memory:
-// 4 bytes per triangle-cell pair, at most 32 bytes per occupied cell and
+// 4 bytes per triangle-cell pair, at most 28 bytes per occupied cell and
 // 12 bytes per triangle (see memory_bytes), independent of the bounding
 // volume.
 //
-// Cell size rule (see cell_size_for): the edge is 4 car radii (10 m for
-// r = 2.5 m: a car's box, 2r + skin wide, then touches at most 8 and on
-// average about 2 cells), whatever the track's extent. Only two limits can
-// make it larger:
+// Cell size rule (see cell_size_for): the edge is the typical triangle's
+// size (the median over the triangles of their box's largest extent),
+// clamped between 4 and 16 car radii (10 m and 40 m for r = 2.5 m). A car's
+// box (2r + skin wide) then touches at most 8 cells. Cells as large as the
+// typical triangle store each triangle in about 2 to 4 cells instead of
+// about 20 (the stadium's 35 m squares in 10 m cells), and, measured with
+// `jetrace-bench density --cell-m`, cost the step no more. Cells finer
+// than 10 m cost more per step on the tracks measured and save at most a
+// few percent (within the machine's noise) on the 2 M-triangle landscape
+// of 1 m triangles, so the edge stays 4 radii on fine meshes. The step's
+// results do not depend on the edge (the gather sorts its candidates),
+// only its cost and the grid's memory.
+// Only two limits can make the edge larger:
 //   - the key: each axis holds at most kMaxAxisCells = 2^21 cells (so the
 //     key fits 63 bits); a track within kMaxTrackCoordinate_m (1e6 m) needs
 //     2e5 cells per axis at 10 m, so this only grows a tiny explicit size or
@@ -36,7 +46,7 @@
 //   - the pair budget: if the triangle-cell pairs would exceed
 //     entry_budget(triangles) (32 per triangle on average, or 2^22 in all,
 //     whichever is larger), the constructor grows the edge until they fit.
-//     Normal tracks are far below it (the stadium: 20 per triangle); it
+//     Normal tracks are far below it (truck_town: 18 per triangle); it
 //     guards against a few huge triangles (a 2,000 km ground quad would be
 //     4e10 cells at 10 m).
 #pragma once
@@ -66,9 +76,16 @@ public:
     static constexpr std::int64_t kEntriesPerTriangle = 32;
     static std::int64_t entry_budget(std::size_t triangles);
 
-    /// The documented rule for the cell edge (unit: m): 4 car radii, grown
-    /// only if an axis of `bounds` would exceed kMaxAxisCells.
-    static double cell_size_for(const Aabb& bounds, double car_radius_m);
+    /// The rule's bounds on the cell edge (unit: car radii).
+    static constexpr double kMinCellRadii = 4.0;
+    static constexpr double kMaxCellRadii = 16.0;
+    /// The typical triangle's size (unit: m): the median over `triangles`
+    /// of their box's largest extent (0 if there are none).
+    static double typical_extent_m(const std::vector<Triangle>& triangles);
+    /// The documented rule for the cell edge (unit: m): typical_extent_m
+    /// clamped to [kMinCellRadii, kMaxCellRadii] car radii, grown only if an
+    /// axis of `bounds` would exceed kMaxAxisCells.
+    static double cell_size_for(const std::vector<Triangle>& triangles, const Aabb& bounds, double car_radius_m);
 
     UniformGrid() = default;
     /// Builds over `triangles` with `cell_size_m` (0 = cell_size_for). An
@@ -105,12 +122,12 @@ public:
         if (span > u64(empty_)) {
             const std::uint64_t dx = u64(dims_[0]), dy = u64(dims_[1]);
             for (std::uint32_t c = 0; c < empty_; ++c) {
-                const std::uint64_t key = cells_[c].key;
+                const std::uint64_t key = cells_[c].key();
                 const auto x = static_cast<std::int32_t>(key % dx);
                 const auto y = static_cast<std::int32_t>((key / dx) % dy);
                 const auto z = static_cast<std::int32_t>(key / dx / dy);
                 if (x < q.lo[0] || x > q.hi[0] || y < q.lo[1] || y > q.hi[1] || z < q.lo[2] || z > q.hi[2]) continue;
-                if (!visit_cell(cells_[c], q, x, y, z, f)) return;
+                if (!visit_cell(c, q, x, y, z, f)) return;
             }
             return;
         }
@@ -118,7 +135,7 @@ public:
             for (std::int32_t y = q.lo[1]; y <= q.hi[1]; ++y) {
                 const std::uint64_t row = (u64(z) * u64(dims_[1]) + u64(y)) * u64(dims_[0]);
                 for (std::int32_t x = q.lo[0]; x <= q.hi[0]; ++x) {
-                    if (!visit_cell(cells_[find(row + u64(x))], q, x, y, z, f)) return;
+                    if (!visit_cell(find(row + u64(x)), q, x, y, z, f)) return;
                 }
             }
         }
@@ -145,10 +162,13 @@ public:
     const std::int32_t* dims() const { return dims_; }
 
 private:
+    // 12 bytes: the key as two halves (no 8-byte alignment), and the
+    // start of its triangles, which end where the next cell's start.
     struct Cell {
-        std::uint64_t key;    // dense index; kNoKey for the empty cell
-        std::uint32_t begin;  // its triangles: items_[begin, end)
-        std::uint32_t end;
+        std::uint32_t key_lo;  // dense index; kNoKey for the empty cell and the end marker
+        std::uint32_t key_hi;
+        std::uint32_t begin;  // its triangles: items_[begin, next cell's begin)
+        std::uint64_t key() const { return (std::uint64_t{key_hi} << 32) | key_lo; }
     };
     static constexpr std::uint64_t kNoKey = ~std::uint64_t{0};  // above any dense index (< 2^63)
     struct CellLo {
@@ -167,15 +187,16 @@ private:
     std::uint32_t find(std::uint64_t key) const {
         for (std::size_t i = slot_of(key);; i = (i + 1) & mask_) {
             const std::uint32_t c = slots_[i];
-            if (cells_[c].key == key || c == empty_) return c;
+            if (cells_[c].key() == key || c == empty_) return c;
         }
     }
     // Reports the triangles of cell (x, y, z) whose owner cell, for query
     // range q, is this one. False if f asked to stop.
     template <class F>
-    bool visit_cell(const Cell& cell, const CellRange& q, std::int32_t x, std::int32_t y, std::int32_t z,
+    bool visit_cell(std::uint32_t c, const CellRange& q, std::int32_t x, std::int32_t y, std::int32_t z,
                     F& f) const {
-        for (std::uint32_t k = cell.begin; k < cell.end; ++k) {
+        const std::uint32_t end = cells_[c + 1].begin;
+        for (std::uint32_t k = cells_[c].begin; k < end; ++k) {
             const std::uint32_t tri = items_[k];
             const CellLo& r = tri_lo_[tri];
             // Owner cell: lowest cell of the two ranges' overlap.
@@ -209,7 +230,7 @@ private:
     std::size_t mask_ = 0;                // slots_.size() - 1
     std::uint32_t empty_ = 0;             // = cell_count(): what an empty slot holds
     std::vector<std::uint32_t> slots_;    // hash table: index into cells_, or empty_
-    std::vector<Cell> cells_;             // occupied cells by ascending key, then the empty cell
+    std::vector<Cell> cells_;             // occupied cells by ascending key, the empty cell, an end marker
     std::vector<std::uint32_t> items_;    // triangle indices, ascending per cell
     std::vector<CellLo> tri_lo_;          // each triangle's lowest bucket cell
 };
