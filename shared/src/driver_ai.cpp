@@ -1,5 +1,7 @@
 #include "jetrace/driver_ai.hpp"
 
+#include "road_height.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -122,6 +124,51 @@ double speed_limit(const Scene& sc, const Route& r, const CarState& car, const V
     return limit;
 }
 
+// Spacing of the road heights sampled along the route ahead, and their
+// most (unit: m, samples).
+constexpr double kProbeStep_m = 6.0;
+constexpr int kProbes = 16;
+// Road the samples read: facing at most about 45 degrees from upwards
+// (unit: cosine), from this far above the route line through the gate
+// centres to this far below it (unit: m).
+constexpr double kRoadMinUp = 0.7;
+constexpr double kProbeAbove_m = 3.0;
+constexpr double kProbeBelow_m = 30.0;
+
+// Highest speed from which the car can slow down, within its braking
+// distance, to the speed at which each crest ahead still holds it on the
+// road: over a crest of vertical radius R the road's push ends at
+// v = sqrt(g R cos(slope)), with R from the heights sampled along the
+// route (unit: m/s).
+double crest_limit(const Scene& sc, const Route& r, const CarState& car, const Vec3& up, double decel, double horizon,
+                   const DriverSkill& skill) {
+    const int n = std::min(kProbes, static_cast<int>(horizon / kProbeStep_m) + 2);
+    double h[kProbes + 1];
+    double s[kProbes + 1];
+    bool ok[kProbes + 1];
+    Vec3 prev = car.position;
+    for (int k = 0; k <= n; ++k) {
+        const Vec3 q = route_point(r, car.next_checkpoint, car.position, up, kProbeStep_m * k);
+        ok[k] = detail::road_height(sc, q.x(), q.z(), q.y() - kProbeBelow_m, q.y() + kProbeAbove_m, kRoadMinUp, h[k]);
+        const double dx = q.x() - prev.x(), dz = q.z() - prev.z();
+        s[k] = k == 0 ? 0.0 : s[k - 1] + std::sqrt(dx * dx + dz * dz);
+        prev = q;
+    }
+    const double g = sc.physics.gravity_mps2;
+    double limit = 1e9;
+    for (int k = 1; k < n; ++k) {
+        const double d1 = s[k] - s[k - 1], d2 = s[k + 1] - s[k];
+        if (!ok[k - 1] || !ok[k] || !ok[k + 1] || d1 < 1.0 || d2 < 1.0) continue;
+        const double bend = 2.0 * ((h[k + 1] - h[k]) / d2 - (h[k] - h[k - 1]) / d1) / (d1 + d2);
+        if (bend >= 0.0) continue;  // level or a dip
+        const double slope = (h[k + 1] - h[k - 1]) / (d1 + d2);
+        // v^2 = g cos(slope) / curvature, the curvature y'' / (1 + y'^2)^1.5.
+        const double lift2 = skill.crest_ratio * skill.crest_ratio * g * (1.0 + slope * slope) / -bend;
+        limit = std::min(limit, std::sqrt(lift2 + 2.0 * decel * s[k - 1]));
+    }
+    return limit;
+}
+
 // Stuck (no progress towards the gate for a while, barely moving): brake
 // and turn on the spot towards the aim, then drive; every few seconds try
 // the other way round. Returns false if the car is not stuck.
@@ -203,6 +250,8 @@ Input drive(const Scene& sc, const WorldState& state, int slot, const DriverSkil
 
     double limit = speed_limit(sc, route, car, up, skill);
     if (!steep) {
+        const double decel = sc.physics.brake_mps2 * 0.8;
+        limit = std::min(limit, crest_limit(sc, route, car, up, decel, speed * speed / (2.0 * decel) + 60.0, skill));
         // Slow enough to reach the aim on the arc through it at the yaw rate
         // the steering gives (radius: distance / (2 sin(heading error))).
         const double arc_sin = d.dot(fwd) > 0.0 ? std::abs(lateral) : 1.0;

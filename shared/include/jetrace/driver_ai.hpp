@@ -24,6 +24,10 @@ struct DriverSkill {
     /// Speed to pass a gate that points upwards, such as the top of the
     /// wall (unit: m/s).
     double climb_top_mps = 35.0;
+    /// Speed over a crest as a multiple of the speed at which the road
+    /// stops holding the car there (unit: ratio): above 1 the car takes short
+    /// hops rather than slowing for every fold of the terrain.
+    double crest_ratio = 1.4;
     /// Steering per radian of heading error (unit: lock/rad).
     double steer_gain = 2.5;
 };
