@@ -53,6 +53,27 @@ Vec3 route_point(const Route& r, std::int32_t next, const Vec3& p, const Vec3& u
     return from;
 }
 
+// The points every `step` metres along the route from the same start as
+// route_point(), `count` + 1 of them (the first the start), in one walk.
+void route_points(const Route& r, std::int32_t next, const Vec3& p, const Vec3& up, double step, int count, Vec3* out) {
+    const Vec3 a = r.at(next - 1).center;
+    const Vec3 b = r.at(next).center;
+    const Vec3 ab = in_plane(b - a, up);
+    const double len2 = ab.squaredNorm();
+    const double t = len2 > 1e-9 ? std::clamp(in_plane(p - a, up).dot(ab) / len2, 0.0, 1.0) : 1.0;
+    Vec3 from = a + (b - a) * t;
+    double at = 0.0;  // distance along the route to `from` (unit: m)
+    int k = 0;
+    for (std::int32_t i = 0; i < 16 && i < r.count && k <= count; ++i) {
+        const Vec3 leg = r.at(next + i).center - from;
+        const double len = in_plane(leg, up).norm();
+        for (; k <= count && step * k - at <= len; ++k) out[k] = len > 0.0 ? from + leg * ((step * k - at) / len) : from;
+        at += len;
+        from = r.at(next + i).center;
+    }
+    for (; k <= count; ++k) out[k] = from;
+}
+
 // Distance before a gate of the point a car lines up at when it cannot
 // drive through the gate from where it is (unit: m).
 constexpr double kApproach_m = 15.0;
@@ -133,7 +154,7 @@ constexpr int kProbes = 16;
 // centres to this far below it (unit: m).
 constexpr double kRoadMinUp = 0.7;
 constexpr double kProbeAbove_m = 3.0;
-constexpr double kProbeBelow_m = 30.0;
+constexpr double kProbeBelow_m = 15.0;
 
 // Highest speed from which the car can slow down, within its braking
 // distance, to the speed at which each crest ahead still holds it on the
@@ -146,9 +167,11 @@ double crest_limit(const Scene& sc, const Route& r, const CarState& car, const V
     double h[kProbes + 1];
     double s[kProbes + 1];
     bool ok[kProbes + 1];
-    Vec3 prev = car.position;
+    Vec3 points[kProbes + 1];
+    route_points(r, car.next_checkpoint, car.position, up, kProbeStep_m, n, points);
+    Vec3 prev = points[0];
     for (int k = 0; k <= n; ++k) {
-        const Vec3 q = route_point(r, car.next_checkpoint, car.position, up, kProbeStep_m * k);
+        const Vec3& q = points[k];
         ok[k] = detail::road_height(sc, q.x(), q.z(), q.y() - kProbeBelow_m, q.y() + kProbeAbove_m, kRoadMinUp, h[k]);
         const double dx = q.x() - prev.x(), dz = q.z() - prev.z();
         s[k] = k == 0 ? 0.0 : s[k - 1] + std::sqrt(dx * dx + dz * dz);
@@ -251,7 +274,7 @@ Input drive(const Scene& sc, const WorldState& state, int slot, const DriverSkil
     double limit = speed_limit(sc, route, car, up, skill);
     if (!steep) {
         const double decel = sc.physics.brake_mps2 * 0.8;
-        limit = std::min(limit, crest_limit(sc, route, car, up, decel, speed * speed / (2.0 * decel) + 60.0, skill));
+        limit = std::min(limit, crest_limit(sc, route, car, up, decel, speed * speed / (2.0 * decel) + 2.0 * kProbeStep_m, skill));
         // Slow enough to reach the aim on the arc through it at the yaw rate
         // the steering gives (radius: distance / (2 sin(heading error))).
         const double arc_sin = d.dot(fwd) > 0.0 ? std::abs(lateral) : 1.0;
