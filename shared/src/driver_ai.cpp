@@ -67,7 +67,9 @@ void route_points(const Route& r, std::int32_t next, const Vec3& p, const Vec3& 
     for (std::int32_t i = 0; i < 16 && i < r.count && k <= count; ++i) {
         const Vec3 leg = r.at(next + i).center - from;
         const double len = in_plane(leg, up).norm();
-        for (; k <= count && step * k - at <= len; ++k) out[k] = len > 0.0 ? from + leg * ((step * k - at) / len) : from;
+        for (; k <= count && step * k - at <= len; ++k) {
+            out[k] = len > 0.0 ? from + leg * ((step * k - at) / len) : from;
+        }
         at += len;
         from = r.at(next + i).center;
     }
@@ -145,8 +147,8 @@ double speed_limit(const Scene& sc, const Route& r, const CarState& car, const V
     return limit;
 }
 
-// Spacing of the road heights sampled along the route ahead, and their
-// most (unit: m, samples).
+// Spacing of the road heights sampled along the route ahead, and the most
+// samples taken (unit: m, samples).
 constexpr double kProbeStep_m = 6.0;
 constexpr int kProbes = 16;
 // Road the samples read: facing at most about 45 degrees from upwards
@@ -274,7 +276,8 @@ Input drive(const Scene& sc, const WorldState& state, int slot, const DriverSkil
     double limit = speed_limit(sc, route, car, up, skill);
     if (!steep) {
         const double decel = sc.physics.brake_mps2 * 0.8;
-        limit = std::min(limit, crest_limit(sc, route, car, up, decel, speed * speed / (2.0 * decel) + 2.0 * kProbeStep_m, skill));
+        const double horizon = speed * speed / (2.0 * decel) + 2.0 * kProbeStep_m;
+        limit = std::min(limit, crest_limit(sc, route, car, up, decel, horizon, skill));
         // Slow enough to reach the aim on the arc through it at the yaw rate
         // the steering gives (radius: distance / (2 sin(heading error))).
         const double arc_sin = d.dot(fwd) > 0.0 ? std::abs(lateral) : 1.0;
