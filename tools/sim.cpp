@@ -27,16 +27,20 @@ struct RaceArgs {
 };
 
 void print_standings(const jetrace::Scene& scene, const jetrace::WorldState& state) {
-    std::printf("%-4s %-5s %-8s %-5s %-6s %s\n", "pos", "car", "status", "lap", "gate", "time_s");
+    std::printf("%-4s %-5s %-8s %-5s %-6s %-8s %s\n", "pos", "car", "status", "lap", "gate", "respawns", "time_s");
     int pos = 1;
+    unsigned long long respawns = 0;
     for (const auto& s : jetrace::standings(scene.track, state.cars, state.start_tick, scene.physics.tick_rate_hz)) {
+        const std::uint32_t r = state.cars[static_cast<std::size_t>(s.slot)].respawns;
+        respawns += r;
         if (s.finished) {
-            std::printf("%-4d %-5d %-8s %-5d %-6s %.3f\n", pos, s.slot, "finished", s.lap, "-", s.finish_time_s);
+            std::printf("%-4d %-5d %-8s %-5d %-6s %-8u %.3f\n", pos, s.slot, "finished", s.lap, "-", r, s.finish_time_s);
         } else {
-            std::printf("%-4d %-5d %-8s %-5d %-6d -\n", pos, s.slot, "racing", s.lap, s.next_checkpoint);
+            std::printf("%-4d %-5d %-8s %-5d %-6d %-8u -\n", pos, s.slot, "racing", s.lap, s.next_checkpoint, r);
         }
         ++pos;
     }
+    std::printf("respawns=%llu\n", respawns);
 }
 
 bool open_recording(const RaceArgs& a, const jetrace::Scene& scene, const jetrace::WorldState& start,

@@ -1,5 +1,7 @@
 #include "jetrace/driver_ai.hpp"
 
+#include "road_height.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -49,6 +51,29 @@ Vec3 route_point(const Route& r, std::int32_t next, const Vec3& p, const Vec3& u
         from = r.at(next + i).center;
     }
     return from;
+}
+
+// The points every `step` metres along the route from the same start as
+// route_point(), `count` + 1 of them (the first the start), in one walk.
+void route_points(const Route& r, std::int32_t next, const Vec3& p, const Vec3& up, double step, int count, Vec3* out) {
+    const Vec3 a = r.at(next - 1).center;
+    const Vec3 b = r.at(next).center;
+    const Vec3 ab = in_plane(b - a, up);
+    const double len2 = ab.squaredNorm();
+    const double t = len2 > 1e-9 ? std::clamp(in_plane(p - a, up).dot(ab) / len2, 0.0, 1.0) : 1.0;
+    Vec3 from = a + (b - a) * t;
+    double at = 0.0;  // distance along the route to `from` (unit: m)
+    int k = 0;
+    for (std::int32_t i = 0; i < 16 && i < r.count && k <= count; ++i) {
+        const Vec3 leg = r.at(next + i).center - from;
+        const double len = in_plane(leg, up).norm();
+        for (; k <= count && step * k - at <= len; ++k) {
+            out[k] = len > 0.0 ? from + leg * ((step * k - at) / len) : from;
+        }
+        at += len;
+        from = r.at(next + i).center;
+    }
+    for (; k <= count; ++k) out[k] = from;
 }
 
 // Distance before a gate of the point a car lines up at when it cannot
@@ -118,6 +143,53 @@ double speed_limit(const Scene& sc, const Route& r, const CarState& car, const V
         if (r.at(i).normal.y() > 0.5) corner_speed = std::min(corner_speed, skill.climb_top_mps);
         limit = std::min(limit, std::sqrt(corner_speed * corner_speed + 2.0 * decel * dist));
         dist += in_plane(r.at(i + 1).center - r.at(i).center, up).norm();
+    }
+    return limit;
+}
+
+// Spacing of the road heights sampled along the route ahead, and the most
+// samples taken (unit: m, samples).
+constexpr double kProbeStep_m = 6.0;
+constexpr int kProbes = 16;
+// Road the samples read: facing at most about 45 degrees from upwards
+// (unit: cosine), from this far above the route line through the gate
+// centres to this far below it (unit: m).
+constexpr double kRoadMinUp = 0.7;
+constexpr double kProbeAbove_m = 3.0;
+constexpr double kProbeBelow_m = 15.0;
+
+// Highest speed from which the car can slow down, within its braking
+// distance, to the speed at which each crest ahead still holds it on the
+// road: over a crest of vertical radius R the road's push ends at
+// v = sqrt(g R cos(slope)), with R from the heights sampled along the
+// route (unit: m/s).
+double crest_limit(const Scene& sc, const Route& r, const CarState& car, const Vec3& up, double decel, double horizon,
+                   const DriverSkill& skill) {
+    const int n = std::min(kProbes, static_cast<int>(horizon / kProbeStep_m) + 2);
+    double h[kProbes + 1];
+    double s[kProbes + 1];
+    bool ok[kProbes + 1];
+    Vec3 points[kProbes + 1];
+    route_points(r, car.next_checkpoint, car.position, up, kProbeStep_m, n, points);
+    Vec3 prev = points[0];
+    for (int k = 0; k <= n; ++k) {
+        const Vec3& q = points[k];
+        ok[k] = detail::road_height(sc, q.x(), q.z(), q.y() - kProbeBelow_m, q.y() + kProbeAbove_m, kRoadMinUp, h[k]);
+        const double dx = q.x() - prev.x(), dz = q.z() - prev.z();
+        s[k] = k == 0 ? 0.0 : s[k - 1] + std::sqrt(dx * dx + dz * dz);
+        prev = q;
+    }
+    const double g = sc.physics.gravity_mps2;
+    double limit = 1e9;
+    for (int k = 1; k < n; ++k) {
+        const double d1 = s[k] - s[k - 1], d2 = s[k + 1] - s[k];
+        if (!ok[k - 1] || !ok[k] || !ok[k + 1] || d1 < 1.0 || d2 < 1.0) continue;
+        const double bend = 2.0 * ((h[k + 1] - h[k]) / d2 - (h[k] - h[k - 1]) / d1) / (d1 + d2);
+        if (bend >= 0.0) continue;  // level or a dip
+        const double slope = (h[k + 1] - h[k - 1]) / (d1 + d2);
+        // v^2 = g cos(slope) / curvature, the curvature y'' / (1 + y'^2)^1.5.
+        const double lift2 = skill.crest_ratio * skill.crest_ratio * g * (1.0 + slope * slope) / -bend;
+        limit = std::min(limit, std::sqrt(lift2 + 2.0 * decel * s[k - 1]));
     }
     return limit;
 }
@@ -203,6 +275,9 @@ Input drive(const Scene& sc, const WorldState& state, int slot, const DriverSkil
 
     double limit = speed_limit(sc, route, car, up, skill);
     if (!steep) {
+        const double decel = sc.physics.brake_mps2 * 0.8;
+        const double horizon = speed * speed / (2.0 * decel) + 2.0 * kProbeStep_m;
+        limit = std::min(limit, crest_limit(sc, route, car, up, decel, horizon, skill));
         // Slow enough to reach the aim on the arc through it at the yaw rate
         // the steering gives (radius: distance / (2 sin(heading error))).
         const double arc_sin = d.dot(fwd) > 0.0 ? std::abs(lateral) : 1.0;

@@ -1,6 +1,6 @@
 // A driving AI: follows the gates in order (pure pursuit along the line
-// through their centres), brakes for the corners within its braking
-// distance, lifts off in the air, and turns on the spot when it has made no
+// through their centres), brakes for the corners and the crests within its
+// braking distance, lifts off in the air, and turns on the spot when it has made no
 // progress for a while. Deterministic and stateless: a function of the scene
 // and the world (its only memory is the car's no-progress counter, part of
 // the state), so an offline race reproduces bit for bit and a bot driving a
@@ -24,6 +24,11 @@ struct DriverSkill {
     /// Speed to pass a gate that points upwards, such as the top of the
     /// wall (unit: m/s).
     double climb_top_mps = 35.0;
+    /// Speed over a crest as a multiple of the speed at which the road
+    /// stops holding the car there (unit: ratio). Below 1 because the road
+    /// heights the AI samples, 6 m apart, round the sharp folds of terrain
+    /// off: they show a larger radius than the road's.
+    double crest_ratio = 0.7;
     /// Steering per radian of heading error (unit: lock/rad).
     double steer_gain = 2.5;
 };
