@@ -20,15 +20,16 @@ bool road_height(const Scene& sc, double x, double z, double y_lo, double y_hi, 
     // in (a triangle in several cells is seen again, with the same height).
     sc.grid.for_each_candidate(column, [&](std::uint32_t i) {
         const Triangle& t = sc.track.triangles[i];
-        const Vec3& n = t.normal;
-        if (n.y() < min_up) return true;
         // Inside in the ground plan: the three signed areas agree (edges
         // inclusive; an upward normal makes the winding counter-clockwise).
+        // Tested first: it rejects most candidates without the normal.
         const double e0 = cross_xz(t.a, t.b, x, z);
         const double e1 = cross_xz(t.b, t.c, x, z);
         const double e2 = cross_xz(t.c, t.a, x, z);
         const bool inside = (e0 >= 0.0 && e1 >= 0.0 && e2 >= 0.0) || (e0 <= 0.0 && e1 <= 0.0 && e2 <= 0.0);
         if (!inside) return true;
+        const Vec3 n = t.normal();
+        if (n.y() < min_up) return true;
         const double h = t.a.y() - (n.x() * (x - t.a.x()) + n.z() * (z - t.a.z())) / n.y();
         if (h >= best && h <= y_hi) {
             best = h;
