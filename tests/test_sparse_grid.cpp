@@ -215,16 +215,16 @@ TEST(SparseGrid, MatchesBruteForceOnWideSparseTrack) {
     const Track track = wide_sparse_track(&rng, 1.0);
     ASSERT_EQ(track.triangles.size(), 2 + 5 * 1384u + 3340);
     // 10 m cells: the lattice the stadiums and the snapped triangles sit on.
-    const UniformGrid grid(track.triangles, track.bounds, 2.5, 10.0);
+    const UniformGrid grid(track.triangles, track.bounds, 2.5, 10.0, UniformGrid::Levels::one);
     ASSERT_EQ(grid.cell_size_m(), 10.0);
     sparse_grid_matches_brute_force(track, grid, track.bounds, rng, 4000, 1400);
     // Bounds smaller than the mesh: buckets and queries clamp to the edge
     // cells, which then hold many triangles; each is still reported once.
     const Aabb shrunk{track.bounds.min + Vec3(2500, 0, 1200), track.bounds.max - Vec3(2500, 600, 1200)};
-    const UniformGrid clamped(track.triangles, shrunk, 2.5, 10.0);
+    const UniformGrid clamped(track.triangles, shrunk, 2.5, 10.0, UniformGrid::Levels::one);
     sparse_grid_matches_brute_force(track, clamped, shrunk, rng, 2000, 300);
     // The rule's edge (the typical triangle: the stadiums' 35 m squares).
-    const UniformGrid ruled(track.triangles, track.bounds, 2.5);
+    const UniformGrid ruled(track.triangles, track.bounds, 2.5, 0.0, UniformGrid::Levels::one);
     ASSERT_GT(ruled.cell_size_m(), 10.0);
     sparse_grid_matches_brute_force(track, ruled, track.bounds, rng, 2000, 700);
 }
@@ -238,8 +238,8 @@ TEST(SparseGrid, CellEdgeIgnoresTheExtentAndMemoryFollowsEntries) {
     const double edge = UniformGrid::cell_size_for(near.triangles, near.bounds, 2.5);
     EXPECT_NEAR(UniformGrid::cell_size_for(far.triangles, far.bounds, 2.5), edge, 1e-9 * edge);
     // On the 10 m lattice the stadiums sit on, so that both bucket alike.
-    const UniformGrid a(near.triangles, near.bounds, 2.5, 10.0);
-    const UniformGrid b(far.triangles, far.bounds, 2.5, 10.0);
+    const UniformGrid a(near.triangles, near.bounds, 2.5, 10.0, UniformGrid::Levels::one);
+    const UniformGrid b(far.triangles, far.bounds, 2.5, 10.0, UniformGrid::Levels::one);
     for (const UniformGrid* g : {&a, &b}) {
         const double dense_cells = double(g->dims()[0]) * g->dims()[1] * g->dims()[2];
         SCOPED_TRACE("dims " + std::to_string(g->dims()[0]) + "x" + std::to_string(g->dims()[1]) + "x" +
@@ -268,7 +268,7 @@ TEST(SparseGrid, HugeTrianglesGrowTheEdgeWithinThePairBudget) {
     const double m = kMaxTrackCoordinate_m;
     const std::vector<Vec3> v = {Vec3(-m, 0, -m), Vec3(-m, 0, m), Vec3(m, 0, m), Vec3(m, 0, -m)};
     const Track ground = make_track("ground", v, {0, 1, 2, 0, 2, 3}, {}, {}, -100);
-    const UniformGrid g(ground.triangles, ground.bounds, 2.5);
+    const UniformGrid g(ground.triangles, ground.bounds, 2.5, 0.0, UniformGrid::Levels::one);
     EXPECT_GT(g.cell_size_m(), 10.0);
     EXPECT_LE(static_cast<std::int64_t>(g.entry_count()), UniformGrid::entry_budget(2));
     std::vector<std::uint32_t> got;
@@ -276,4 +276,54 @@ TEST(SparseGrid, HugeTrianglesGrowTheEdgeWithinThePairBudget) {
     g.for_each_candidate(car, [&](std::uint32_t t) { got.push_back(t); });
     std::sort(got.begin(), got.end());
     EXPECT_EQ(got, (std::vector<std::uint32_t>{0, 1}));
+    // Two levels: both triangles in the coarse level, within its budget.
+    const UniformGrid two(ground.triangles, ground.bounds, 2.5);
+    EXPECT_EQ(two.large_count(), 2u);
+    EXPECT_LE(static_cast<std::int64_t>(two.entry_count()), UniformGrid::entry_budget(2));
+    got.clear();
+    two.for_each_candidate(car, [&](std::uint32_t t) { got.push_back(t); });
+    std::sort(got.begin(), got.end());
+    EXPECT_EQ(got, (std::vector<std::uint32_t>{0, 1}));
+}
+
+TEST(SparseGrid, TwoLevelsReportEveryOverlappingTriangleOnce) {
+    // The wide sparse track in 10 m cells: the stadiums' floor squares
+    // (35 m) and the long snapped triangles cover more than kLargeCells
+    // cells and go to the coarse level, the rest stays in the fine one.
+    // What the gather needs: every triangle whose box overlaps the query
+    // box, each once (the gather keeps those and sorts them).
+    JETRACE_SEEDED_RNG(rng);
+    const Track track = wide_sparse_track(&rng, 1.0);
+    const UniformGrid grid(track.triangles, track.bounds, 2.5, 10.0);
+    ASSERT_GT(grid.large_count(), 0u);
+    ASSERT_LT(grid.large_count(), track.triangles.size());
+    const UniformGrid one(track.triangles, track.bounds, 2.5, 10.0, UniformGrid::Levels::one);
+    EXPECT_LT(grid.memory_bytes(), one.memory_bytes());
+    std::uniform_int_distribution<std::size_t> pick(0, track.triangles.size() - 1);
+    std::uniform_real_distribution<double> jitter(-20.0, 20.0), half(0.5, 30.0);
+    int failures = 0, nonempty = 0;
+    std::vector<std::uint32_t> got, want;
+    for (int i = 0; i < 3000 && failures < 10; ++i) {
+        const Triangle& t = track.triangles[pick(rng)];
+        const Vec3 c = (t.a + t.b + t.c) / 3.0 + Vec3(jitter(rng), jitter(rng) * 0.1, jitter(rng));
+        const Aabb box = Aabb::around(c, i % 100 == 0 ? 5000.0 : half(rng));
+        got.clear();
+        want.clear();
+        grid.for_each_candidate(box, [&](std::uint32_t k) { got.push_back(k); });
+        for (std::size_t k = 0; k < track.triangles.size(); ++k) {
+            if (track.triangles[k].bounds().overlaps(box)) want.push_back(static_cast<std::uint32_t>(k));
+        }
+        std::sort(got.begin(), got.end());
+        const bool unique = std::adjacent_find(got.begin(), got.end()) == got.end();
+        const bool covers = std::includes(got.begin(), got.end(), want.begin(), want.end());
+        nonempty += want.empty() ? 0 : 1;
+        if (!unique || !covers) {
+            ++failures;
+            ADD_FAILURE() << "query " << i << " box " << str(box.min) << str(box.max) << ": grid reported "
+                          << got.size() << (unique ? "" : " with duplicates") << ", " << want.size()
+                          << " overlap it" << (covers ? "" : ", not all reported");
+        }
+    }
+    EXPECT_EQ(failures, 0);
+    EXPECT_GE(nonempty, 1500);
 }

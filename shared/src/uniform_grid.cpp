@@ -148,7 +148,8 @@ void UniformGrid::set_cell_size(double cell_m) {
 }
 
 UniformGrid::UniformGrid(const std::vector<Triangle>& triangles, const Aabb& bounds, double car_radius_m,
-                         double cell_size_m) {
+                         double cell_size_m, Levels levels) {
+    const bool with_coarse = levels == Levels::two;
     bounds_ = bounds;
     origin_ = bounds.min;
     const std::size_t n = triangles.size();
@@ -159,10 +160,16 @@ UniformGrid::UniformGrid(const std::vector<Triangle>& triangles, const Aabb& bou
     double size = cell_size_m > 0.0 ? fit_axes(bounds, cell_size_m) : cell_size_for(triangles, bounds, car_radius_m);
     const double budget = static_cast<double>(entry_budget(n));
     std::vector<CellRange> ranges(n);
+    // Large triangles (more than kLargeCells cells) go to the coarse level:
+    // a few ground triangles far wider than the cells would otherwise make
+    // most of the pairs (truck_town: 94 % of them in 10 m cells).
+    std::vector<char> large(n, 0);
+    std::size_t large_count = 0;
     double pairs = 0.0;
     for (;;) {
         set_cell_size(size);
         pairs = 0.0;
+        large_count = 0;
         for (std::size_t t = 0; t < n; ++t) {
             const Aabb b = triangles[t].bounds();
             CellRange& r = ranges[t];
@@ -170,10 +177,23 @@ UniformGrid::UniformGrid(const std::vector<Triangle>& triangles, const Aabb& bou
                 r.lo[i] = coord(b.min[i], i);
                 r.hi[i] = coord(b.max[i], i);
             }
-            pairs += range_cells(r);
+            const double cells = range_cells(r);
+            large[t] = with_coarse && cells > kLargeCells ? 1 : 0;
+            if (large[t] != 0) {
+                ++large_count;
+            } else {
+                pairs += cells;
+            }
         }
         if (pairs <= budget) break;
         size = fit_axes(bounds, size * std::max(1.0625, std::sqrt(pairs / budget)));
+    }
+    if (large_count > 0) {
+        build_coarse(triangles, large, car_radius_m);
+        // No pairs in this level: an empty range.
+        for (std::size_t t = 0; t < n; ++t) {
+            if (large[t] != 0) ranges[t] = CellRange{{0, 0, 0}, {-1, -1, -1}};
+        }
     }
 
     tri_lo_.resize(n);
@@ -194,6 +214,19 @@ UniformGrid::UniformGrid(const std::vector<Triangle>& triangles, const Aabb& bou
     build_table();
 }
 
+void UniformGrid::build_coarse(const std::vector<Triangle>& triangles, const std::vector<char>& large,
+                               double car_radius_m) {
+    std::vector<Triangle> big;
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+        if (large[t] == 0) continue;
+        big.push_back(triangles[t]);
+        coarse_ids_.push_back(static_cast<std::uint32_t>(t));
+    }
+    // The same bounds (a query clamps to them alike); cells kCoarseFactor
+    // times as wide, and no third level.
+    coarse_.push_back(UniformGrid(big, bounds_, car_radius_m, cell_ * kCoarseFactor, Levels::one));
+}
+
 void UniformGrid::build_table() {
     const std::size_t occupied = cells_.size() - 2;  // less the empty cell and the end marker
     std::size_t capacity = 2;
@@ -212,7 +245,8 @@ void UniformGrid::build_table() {
 
 std::size_t UniformGrid::memory_bytes() const {
     return slots_.size() * sizeof(std::uint32_t) + cells_.size() * sizeof(Cell) +
-           items_.size() * sizeof(std::uint32_t) + tri_lo_.size() * sizeof(CellLo);
+           items_.size() * sizeof(std::uint32_t) + tri_lo_.size() * sizeof(CellLo) +
+           coarse_ids_.size() * sizeof(std::uint32_t) + (coarse_.empty() ? 0 : coarse_[0].memory_bytes());
 }
 
 }  // namespace jetrace
