@@ -33,15 +33,20 @@ struct Route {
     }
 };
 
-// The point `ahead` metres along the route from the car's projection onto
-// the leg into gate `next` (unit: m).
-Vec3 route_point(const Route& r, std::int32_t next, const Vec3& p, const Vec3& up, double ahead) {
+// Where the car's route starts: its projection onto the leg into gate
+// `next`, in the plane across `up`.
+Vec3 route_start(const Route& r, std::int32_t next, const Vec3& p, const Vec3& up) {
     const Vec3 a = r.at(next - 1).center;
     const Vec3 b = r.at(next).center;
     const Vec3 ab = in_plane(b - a, up);
     const double len2 = ab.squaredNorm();
     const double t = len2 > 1e-9 ? std::clamp(in_plane(p - a, up).dot(ab) / len2, 0.0, 1.0) : 1.0;
-    Vec3 from = a + (b - a) * t;
+    return a + (b - a) * t;
+}
+
+// The point `ahead` metres along the route from route_start() (unit: m).
+Vec3 route_point(const Route& r, std::int32_t next, const Vec3& p, const Vec3& up, double ahead) {
+    Vec3 from = route_start(r, next, p, up);
     double left = ahead;
     for (std::int32_t i = 0; i < 16 && i < r.count; ++i) {
         const Vec3 leg = r.at(next + i).center - from;
@@ -53,15 +58,10 @@ Vec3 route_point(const Route& r, std::int32_t next, const Vec3& p, const Vec3& u
     return from;
 }
 
-// The points every `step` metres along the route from the same start as
-// route_point(), `count` + 1 of them (the first the start), in one walk.
+// The points every `step` metres along the route from route_start(),
+// `count` + 1 of them (the first the start), in one walk.
 void route_points(const Route& r, std::int32_t next, const Vec3& p, const Vec3& up, double step, int count, Vec3* out) {
-    const Vec3 a = r.at(next - 1).center;
-    const Vec3 b = r.at(next).center;
-    const Vec3 ab = in_plane(b - a, up);
-    const double len2 = ab.squaredNorm();
-    const double t = len2 > 1e-9 ? std::clamp(in_plane(p - a, up).dot(ab) / len2, 0.0, 1.0) : 1.0;
-    Vec3 from = a + (b - a) * t;
+    Vec3 from = route_start(r, next, p, up);
     double at = 0.0;  // distance along the route to `from` (unit: m)
     int k = 0;
     for (std::int32_t i = 0; i < 16 && i < r.count && k <= count; ++i) {

@@ -16,8 +16,7 @@ bool road_height(const Scene& sc, double x, double z, double y_lo, double y_hi, 
     const Aabb column{Vec3(x - kHalf_m, y_lo, z - kHalf_m), Vec3(x + kHalf_m, y_hi, z + kHalf_m)};
     bool found = false;
     double best = y_lo;
-    // The highest hit wins whatever the order the grid gives the triangles
-    // in (a triangle in several cells is seen again, with the same height).
+    // The highest hit wins, whatever the order the grid gives the triangles in.
     sc.grid.for_each_candidate(column, [&](std::uint32_t i) {
         const Triangle& t = sc.track.triangles[i];
         // Inside in the ground plan: the three signed areas agree (edges

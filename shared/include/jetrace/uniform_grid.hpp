@@ -140,14 +140,7 @@ public:
     template <class F>
     void for_each_candidate(const Aabb& box, F&& f) const {
         if (!for_each_fine(box, f) || coarse_.empty()) return;
-        auto large = [&](std::uint32_t i) {
-            if constexpr (std::is_same_v<std::invoke_result_t<F&, std::uint32_t>, bool>) {
-                return f(coarse_ids_[i]);
-            } else {
-                f(coarse_ids_[i]);
-                return true;
-            }
-        };
+        auto large = [&](std::uint32_t i) { return report(f, coarse_ids_[i]); };
         coarse_[0].for_each_fine(box, large);
     }
 
@@ -249,13 +242,19 @@ private:
             const std::int32_t oy = r.y > q.lo[1] ? r.y : q.lo[1];
             const std::int32_t oz = r.z > q.lo[2] ? r.z : q.lo[2];
             if (ox != x || oy != y || oz != z) continue;
-            if constexpr (std::is_same_v<std::invoke_result_t<F&, std::uint32_t>, bool>) {
-                if (!f(tri)) return false;
-            } else {
-                f(tri);
-            }
+            if (!report(f, tri)) return false;
         }
         return true;
+    }
+    // Calls f(tri); false if f returns bool and asked to stop.
+    template <class F>
+    static bool report(F& f, std::uint32_t tri) {
+        if constexpr (std::is_same_v<std::invoke_result_t<F&, std::uint32_t>, bool>) {
+            return f(tri);
+        } else {
+            f(tri);
+            return true;
+        }
     }
     std::int32_t coord(double v, int axis) const {
         const double c = std::floor((v - origin_[axis]) * inv_cell_);
