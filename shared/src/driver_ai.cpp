@@ -1,7 +1,5 @@
 #include "jetrace/driver_ai.hpp"
 
-#include "road_height.hpp"
-
 #include <algorithm>
 #include <cmath>
 
@@ -34,19 +32,20 @@ struct Route {
 };
 
 // Where the car's route starts: its projection onto the leg into gate
-// `next`, in the plane across `up`.
-Vec3 route_start(const Route& r, std::int32_t next, const Vec3& p, const Vec3& up) {
+// `next`, in the plane across `up`; `t` is how far along the leg (0..1).
+Vec3 route_start(const Route& r, std::int32_t next, const Vec3& p, const Vec3& up, double& t) {
     const Vec3 a = r.at(next - 1).center;
     const Vec3 b = r.at(next).center;
     const Vec3 ab = in_plane(b - a, up);
     const double len2 = ab.squaredNorm();
-    const double t = len2 > 1e-9 ? std::clamp(in_plane(p - a, up).dot(ab) / len2, 0.0, 1.0) : 1.0;
+    t = len2 > 1e-9 ? std::clamp(in_plane(p - a, up).dot(ab) / len2, 0.0, 1.0) : 1.0;
     return a + (b - a) * t;
 }
 
 // The point `ahead` metres along the route from route_start() (unit: m).
 Vec3 route_point(const Route& r, std::int32_t next, const Vec3& p, const Vec3& up, double ahead) {
-    Vec3 from = route_start(r, next, p, up);
+    double t = 0.0;
+    Vec3 from = route_start(r, next, p, up, t);
     double left = ahead;
     for (std::int32_t i = 0; i < 16 && i < r.count; ++i) {
         const Vec3 leg = r.at(next + i).center - from;
@@ -58,22 +57,36 @@ Vec3 route_point(const Route& r, std::int32_t next, const Vec3& p, const Vec3& u
     return from;
 }
 
+// A point on the route: a fraction `t` (0..1) of the way along the leg
+// into gate `leg`.
+struct RoutePoint {
+    Vec3 at;
+    std::int32_t leg = 0;
+    double t = 0.0;
+};
+
 // The points every `step` metres along the route from route_start(),
 // `count` + 1 of them (the first the start), in one walk.
-void route_points(const Route& r, std::int32_t next, const Vec3& p, const Vec3& up, double step, int count, Vec3* out) {
-    Vec3 from = route_start(r, next, p, up);
+void route_points(const Route& r, std::int32_t next, const Vec3& p, const Vec3& up, double step, int count,
+                  RoutePoint* out) {
+    double t0 = 0.0;  // where `from` is along the current leg
+    Vec3 from = route_start(r, next, p, up, t0);
     double at = 0.0;  // distance along the route to `from` (unit: m)
+    std::int32_t leg = next;
     int k = 0;
     for (std::int32_t i = 0; i < 16 && i < r.count && k <= count; ++i) {
-        const Vec3 leg = r.at(next + i).center - from;
-        const double len = in_plane(leg, up).norm();
+        leg = next + i;
+        const Vec3 d = r.at(leg).center - from;
+        const double len = in_plane(d, up).norm();
         for (; k <= count && step * k - at <= len; ++k) {
-            out[k] = len > 0.0 ? from + leg * ((step * k - at) / len) : from;
+            const double u = len > 0.0 ? (step * k - at) / len : 0.0;
+            out[k] = {from + d * u, leg, t0 + (1.0 - t0) * u};
         }
         at += len;
-        from = r.at(next + i).center;
+        from = r.at(leg).center;
+        t0 = 0.0;
     }
-    for (; k <= count; ++k) out[k] = from;
+    for (; k <= count; ++k) out[k] = {from, leg, 1.0};
 }
 
 // Distance before a gate of the point a car lines up at when it cannot
@@ -147,21 +160,15 @@ double speed_limit(const Scene& sc, const Route& r, const CarState& car, const V
     return limit;
 }
 
-// Spacing of the road heights sampled along the route ahead, and the most
-// samples taken (unit: m, samples).
+// Spacing of the road heights read along the route ahead, and the most
+// read (unit: m, samples).
 constexpr double kProbeStep_m = 6.0;
 constexpr int kProbes = 16;
-// Road the samples read: facing at most about 45 degrees from upwards
-// (unit: cosine), from this far above the route line through the gate
-// centres to this far below it (unit: m).
-constexpr double kRoadMinUp = 0.7;
-constexpr double kProbeAbove_m = 3.0;
-constexpr double kProbeBelow_m = 15.0;
 
 // Highest speed from which the car can slow down, within its braking
 // distance, to the speed at which each crest ahead still holds it on the
 // road: over a crest of vertical radius R the road's push ends at
-// v = sqrt(g R cos(slope)), with R from the heights sampled along the
+// v = sqrt(g R cos(slope)), with R from the scene's road profile along the
 // route (unit: m/s).
 double crest_limit(const Scene& sc, const Route& r, const CarState& car, const Vec3& up, double decel, double horizon,
                    const DriverSkill& skill) {
@@ -169,12 +176,12 @@ double crest_limit(const Scene& sc, const Route& r, const CarState& car, const V
     double h[kProbes + 1];
     double s[kProbes + 1];
     bool ok[kProbes + 1];
-    Vec3 points[kProbes + 1];
+    RoutePoint points[kProbes + 1];
     route_points(r, car.next_checkpoint, car.position, up, kProbeStep_m, n, points);
-    Vec3 prev = points[0];
+    Vec3 prev = points[0].at;
     for (int k = 0; k <= n; ++k) {
-        const Vec3& q = points[k];
-        ok[k] = detail::road_height(sc, q.x(), q.z(), q.y() - kProbeBelow_m, q.y() + kProbeAbove_m, kRoadMinUp, h[k]);
+        const Vec3& q = points[k].at;
+        ok[k] = sc.road.height(points[k].leg, points[k].t, h[k]);
         const double dx = q.x() - prev.x(), dz = q.z() - prev.z();
         s[k] = k == 0 ? 0.0 : s[k - 1] + std::sqrt(dx * dx + dz * dz);
         prev = q;

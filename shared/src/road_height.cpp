@@ -11,14 +11,14 @@ double cross_xz(const Vec3& a, const Vec3& b, double x, double z) {
 
 }  // namespace
 
-bool road_height(const Scene& sc, double x, double z, double y_lo, double y_hi, double min_up, double& y) {
+bool road_height(const Track& track, const UniformGrid& grid, double x, double z, double y_lo, double y_hi, double min_up, double& y) {
     constexpr double kHalf_m = 1e-3;
     const Aabb column{Vec3(x - kHalf_m, y_lo, z - kHalf_m), Vec3(x + kHalf_m, y_hi, z + kHalf_m)};
     bool found = false;
     double best = y_lo;
     // The highest hit wins, whatever the order the grid gives the triangles in.
-    sc.grid.for_each_candidate(column, [&](std::uint32_t i) {
-        const Triangle& t = sc.track.triangles[i];
+    grid.for_each_candidate(column, [&](std::uint32_t i) {
+        const Triangle& t = track.triangles[i];
         // Inside in the ground plan: the three signed areas agree (edges
         // inclusive; an upward normal makes the winding counter-clockwise).
         // Tested first: it rejects most candidates without the normal.

@@ -17,6 +17,7 @@ Scene Scene::make(Track track, const PhysicsSettings& physics, double cell_size_
     s.grid = UniformGrid(track.triangles, track.bounds, physics.car_radius_m, cell_size_m);
     s.track = std::move(track);
     s.physics = physics;
+    s.road = RoadProfile::build(s.track, s.grid);
     return s;
 }
 

@@ -30,7 +30,7 @@ double counted_bytes(const Scene& sc) {
     const Track& t = sc.track;
     return static_cast<double>(sizeof(Scene) + t.name.capacity() + t.triangles.capacity() * sizeof(Triangle) +
                                t.checkpoints.capacity() * sizeof(Checkpoint) + t.spawns.capacity() * sizeof(Pose) +
-                               sc.grid.memory_bytes());
+                               sc.grid.memory_bytes() + sc.road.memory_bytes());
 }
 
 struct LoadTime {
@@ -115,6 +115,7 @@ int run_track_load(const TrackLoadOptions& o) {
     j["triangle_struct_bytes"] = sizeof(Triangle);
     j["track_bytes_per_triangle"] = static_cast<double>(scene.track.triangles.capacity() * sizeof(Triangle)) / n;
     j["grid_bytes_per_triangle"] = static_cast<double>(scene.grid.memory_bytes()) / n;
+    j["road_profile_bytes"] = scene.road.memory_bytes();
     j["grid_entries_per_triangle"] = static_cast<double>(scene.grid.entry_count()) / n;
     j["counted_bytes_per_triangle"] = counted_bytes(scene) / n;
     j["resident_bytes_per_triangle"] = (rss1 - rss0) / n;

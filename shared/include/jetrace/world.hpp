@@ -5,6 +5,7 @@
 
 #include "jetrace/hovercar.hpp"
 #include "jetrace/resolver.hpp"
+#include "jetrace/road_profile.hpp"
 #include "jetrace/settings.hpp"
 #include "jetrace/track.hpp"
 #include "jetrace/uniform_grid.hpp"
@@ -22,11 +23,13 @@ struct Scene {
     UniformGrid grid;
     PhysicsSettings physics;
     Broadphase broadphase = Broadphase::grid;
+    /// Road heights along the route, for the driving AI.
+    RoadProfile road;
 
     /// What the resolver reads (references into this scene).
     TrackQuery query() const { return {track, grid, broadphase, physics}; }
 
-    /// Builds the grid. `physics` must be valid (see validate()).
+    /// Builds the grid and the road profile. `physics` must be valid (see validate()).
     static Scene make(Track track, const PhysicsSettings& physics, double cell_size_m = 0.0);
 };
 

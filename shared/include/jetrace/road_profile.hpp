@@ -1,0 +1,59 @@
+// Road heights along a track's route (the closed polyline through its gate
+// centres), sampled once when the scene is made: what the driving AI reads
+// to see a crest ahead without searching the grid on every tick.
+#pragma once
+
+#include "jetrace/track.hpp"
+#include "jetrace/uniform_grid.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace jetrace {
+
+/// What counts as road under the route, and how densely it is sampled.
+struct RoadProbe {
+    /// Spacing of the samples along each leg, in the ground plan (unit: m).
+    double spacing_m = 1.0;
+    /// Road faces upwards: its unit normal's y at least this (unit: cosine).
+    double min_up = 0.7;
+    /// The road is looked for from this far above the route line to this
+    /// far below it (unit: m; each at most 32, what the profile stores).
+    double above_m = 3.0;
+    double below_m = 15.0;
+};
+
+class RoadProfile {
+public:
+    /// Resolution of the stored heights (unit: m).
+    static constexpr double kResolution_m = 1e-3;
+
+    RoadProfile() = default;
+
+    /// Samples every leg of `track`'s route through `grid` (built over
+    /// `track.triangles`). Leg k runs from gate k-1 to gate k (gate 0's
+    /// leg from the last gate).
+    static RoadProfile build(const Track& track, const UniformGrid& grid, const RoadProbe& probe = {});
+
+    /// Height of the road under the point a fraction `t` (0..1) of the way
+    /// along leg `leg` (any integer: taken modulo the gate count), linear
+    /// between the two samples around it (unit: m). False where either has
+    /// no road.
+    bool height(std::int32_t leg, double t, double& y) const;
+
+    std::size_t legs() const { return gate_y_.size(); }
+    std::size_t memory_bytes() const;
+
+private:
+    static constexpr std::int16_t kNone = INT16_MIN;
+    // Leg k's samples are offsets_[first_[k] .. first_[k + 1]), the first at
+    // its start gate and the last at its end gate: the road's height above
+    // the route line (from gate_y_[k - 1] to gate_y_[k]) in kResolution_m,
+    // kNone where there is no road.
+    std::vector<std::uint32_t> first_;
+    std::vector<double> gate_y_;
+    std::vector<std::int16_t> offsets_;
+};
+
+}  // namespace jetrace

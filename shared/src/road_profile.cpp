@@ -1,0 +1,73 @@
+#include "jetrace/road_profile.hpp"
+
+#include "road_height.hpp"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+namespace jetrace {
+
+namespace {
+
+// Most samples on one leg, less one.
+constexpr double kMaxIntervals = 4096.0;
+
+}  // namespace
+
+RoadProfile RoadProfile::build(const Track& track, const UniformGrid& grid, const RoadProbe& probe) {
+    assert(probe.spacing_m > 0.0);
+    assert(probe.above_m >= 0.0 && probe.above_m <= 32.0 && probe.below_m >= 0.0 && probe.below_m <= 32.0);
+    RoadProfile p;
+    const auto& gates = track.checkpoints;
+    const std::size_t n = gates.size();
+    if (n == 0) return p;
+    p.first_.reserve(n + 1);
+    p.gate_y_.reserve(n);
+    for (const Checkpoint& g : gates) p.gate_y_.push_back(g.center.y());
+    for (std::size_t k = 0; k < n; ++k) {
+        const Vec3 a = gates[(k + n - 1) % n].center;
+        const Vec3 b = gates[k].center;
+        const double dx = b.x() - a.x(), dz = b.z() - a.z();
+        // At least one interval, and a bounded count on a long leg (then
+        // spaced wider than asked).
+        const double want = std::ceil(std::sqrt(dx * dx + dz * dz) / probe.spacing_m);
+        const auto intervals = static_cast<std::uint32_t>(std::clamp(want, 1.0, kMaxIntervals));
+        p.first_.push_back(static_cast<std::uint32_t>(p.offsets_.size()));
+        for (std::uint32_t j = 0; j <= intervals; ++j) {
+            const Vec3 q = a + (b - a) * (static_cast<double>(j) / intervals);
+            double y = 0.0;
+            const bool ok = detail::road_height(track, grid, q.x(), q.z(), q.y() - probe.below_m, q.y() + probe.above_m,
+                                                probe.min_up, y);
+            p.offsets_.push_back(ok ? static_cast<std::int16_t>(std::lround((y - q.y()) / kResolution_m)) : kNone);
+        }
+    }
+    p.first_.push_back(static_cast<std::uint32_t>(p.offsets_.size()));
+    return p;
+}
+
+bool RoadProfile::height(std::int32_t leg, double t, double& y) const {
+    const auto n = static_cast<std::int32_t>(legs());
+    if (n == 0) return false;
+    const auto k = static_cast<std::size_t>(((leg % n) + n) % n);
+    const std::uint32_t first = first_[k];
+    const std::uint32_t intervals = first_[k + 1] - first - 1;
+    const double u = std::clamp(t, 0.0, 1.0);
+    const double x = u * intervals;
+    const auto j = std::min(static_cast<std::uint32_t>(x), intervals - 1);
+    const std::int16_t o0 = offsets_[first + j], o1 = offsets_[first + j + 1];
+    if (o0 == kNone || o1 == kNone) return false;
+    // The route line is straight along the leg: its height and the offsets
+    // interpolate alike.
+    const double y0 = gate_y_[(k + legs() - 1) % legs()], y1 = gate_y_[k];
+    const double f = x - j;
+    y = y0 + (y1 - y0) * u + (o0 + (o1 - o0) * f) * kResolution_m;
+    return true;
+}
+
+std::size_t RoadProfile::memory_bytes() const {
+    return first_.capacity() * sizeof(std::uint32_t) + gate_y_.capacity() * sizeof(double) +
+           offsets_.capacity() * sizeof(std::int16_t);
+}
+
+}  // namespace jetrace

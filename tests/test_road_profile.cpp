@@ -1,0 +1,127 @@
+// The road profile the driving AI reads crests from: heights along the route
+// against the road's own geometry (a tilted plane, a hole, a deck above a
+// floor), and the leg numbering the AI indexes it with.
+#include "jetrace/road_profile.hpp"
+#include "jetrace/world.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace {
+
+using jetrace::Checkpoint;
+using jetrace::Pose;
+using jetrace::Scene;
+using jetrace::Vec3;
+
+// A square route of four gates, 200 m a side, at height `y(x)` + 1 m.
+std::vector<Checkpoint> square_route(double slope) {
+    const Vec3 corners[4] = {Vec3(100, 0, -100), Vec3(100, 0, 100), Vec3(-100, 0, 100), Vec3(-100, 0, -100)};
+    std::vector<Checkpoint> gates;
+    for (int k = 0; k < 4; ++k) {
+        Checkpoint g;
+        g.center = corners[k] + Vec3(0, slope * corners[k].x() + 1.0, 0);
+        g.respawn = Pose{g.center, Vec3(1, 0, 0), Vec3(0, 1, 0)};
+        gates.push_back(g);
+    }
+    return gates;
+}
+
+// A quad from (x0, z0) to (x1, z1) on the plane y = slope x + lift, facing up.
+void add_quad(std::vector<Vec3>& v, std::vector<std::uint32_t>& idx, double x0, double z0, double x1, double z1,
+              double slope, double lift) {
+    const auto base = static_cast<std::uint32_t>(v.size());
+    for (const auto& [x, z] : {std::pair{x0, z0}, {x0, z1}, {x1, z1}, {x1, z0}}) v.emplace_back(x, slope * x + lift, z);
+    for (std::uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) idx.push_back(base + i);
+}
+
+Scene scene_of(const std::vector<Vec3>& v, const std::vector<std::uint32_t>& idx, std::vector<Checkpoint> gates) {
+    const Pose spawn = gates.front().respawn;
+    return Scene::make(jetrace::make_track("profile", v, idx, std::move(gates), {spawn}, -1000),
+                       jetrace::PhysicsSettings{});
+}
+
+// The point a fraction t along the leg into gate `leg`.
+Vec3 on_leg(const Scene& sc, int leg, double t) {
+    const auto& g = sc.track.checkpoints;
+    const int n = static_cast<int>(g.size());
+    const Vec3 a = g[static_cast<std::size_t>((leg - 1 + n) % n)].center;
+    const Vec3 b = g[static_cast<std::size_t>(leg % n)].center;
+    return a + (b - a) * t;
+}
+
+}  // namespace
+
+TEST(RoadProfile, FollowsATiltedPlaneAlongEveryLeg) {
+    constexpr double kSlope = 0.3;
+    std::vector<Vec3> v;
+    std::vector<std::uint32_t> idx;
+    // Small quads, so that samples fall on many triangles.
+    for (int i = -15; i < 15; ++i) {
+        for (int j = -15; j < 15; ++j) add_quad(v, idx, i * 10.0, j * 10.0, i * 10.0 + 10, j * 10.0 + 10, kSlope, 0);
+    }
+    const Scene sc = scene_of(v, idx, square_route(kSlope));
+    ASSERT_EQ(sc.road.legs(), 4u);
+    for (int leg = 0; leg < 4; ++leg) {
+        for (int s = 0; s <= 100; ++s) {
+            const double t = s / 100.0 + (s % 7) * 1e-3;
+            const Vec3 p = on_leg(sc, leg, std::min(t, 1.0));
+            double y = 0.0;
+            ASSERT_TRUE(sc.road.height(leg, t, y)) << "leg " << leg << " t " << t;
+            EXPECT_NEAR(y, kSlope * p.x(), jetrace::RoadProfile::kResolution_m) << "leg " << leg << " t " << t;
+        }
+    }
+    // Legs are numbered modulo the gate count, as the AI counts gates ahead.
+    double y0 = 0.0, y1 = 0.0, y2 = 0.0;
+    ASSERT_TRUE(sc.road.height(1, 0.25, y0));
+    ASSERT_TRUE(sc.road.height(5, 0.25, y1));
+    ASSERT_TRUE(sc.road.height(-3, 0.25, y2));
+    EXPECT_EQ(y0, y1);
+    EXPECT_EQ(y0, y2);
+}
+
+TEST(RoadProfile, HasNoRoadOverAHole) {
+    std::vector<Vec3> v;
+    std::vector<std::uint32_t> idx;
+    // The floor, with a hole 40 m long across the leg into gate 1 (x = 100,
+    // z from -20 to 20).
+    add_quad(v, idx, -150, -150, 150, -20, 0, 0);
+    add_quad(v, idx, -150, 20, 150, 150, 0, 0);
+    add_quad(v, idx, -150, -20, 80, 20, 0, 0);
+    add_quad(v, idx, 120, -20, 150, 20, 0, 0);
+    const Scene sc = scene_of(v, idx, square_route(0));
+    double y = 0.0;
+    EXPECT_FALSE(sc.road.height(1, 0.5, y));     // z = 0: over the hole
+    EXPECT_FALSE(sc.road.height(1, 0.42, y));    // z = -16
+    EXPECT_TRUE(sc.road.height(1, 0.3, y));      // z = -40
+    EXPECT_EQ(y, 0.0);
+    EXPECT_TRUE(sc.road.height(2, 0.5, y));      // another leg
+}
+
+TEST(RoadProfile, ReadsTheRoadNearestBelowTheRouteNotADeckAboveOrAFloorFarBelow) {
+    std::vector<Vec3> v;
+    std::vector<std::uint32_t> idx;
+    add_quad(v, idx, -150, -150, 150, 150, 0, 0);  // the floor, y = 0
+    add_quad(v, idx, 80, -30, 120, 30, 0, 10);     // a deck across leg 1, y = 10
+    std::vector<Checkpoint> gates = square_route(0);
+    // Under the deck (route at y = 1, the deck 9 m above): the floor.
+    const Scene under = scene_of(v, idx, gates);
+    double y = -1.0;
+    ASSERT_TRUE(under.road.height(1, 0.5, y));
+    EXPECT_EQ(y, 0.0);
+    // On the deck (the route lifted to y = 11 at gates 0 and 1): the deck,
+    // though the floor is below it within the probe.
+    gates[0].center.y() = 11;
+    gates[1].center.y() = 11;
+    const Scene over = scene_of(v, idx, gates);
+    ASSERT_TRUE(over.road.height(1, 0.5, y));
+    EXPECT_EQ(y, 10.0);
+    // Far above every road: none.
+    gates[0].center.y() = 60;
+    gates[1].center.y() = 60;
+    const Scene high = scene_of(v, idx, gates);
+    EXPECT_FALSE(high.road.height(1, 0.5, y));
+}
