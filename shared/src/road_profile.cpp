@@ -10,8 +10,15 @@ namespace jetrace {
 
 namespace {
 
-// Most samples on one leg, less one.
+// Most samples on one leg, less one, and on the whole route: a longer
+// route (or a hostile file's) is sampled wider apart than asked.
 constexpr double kMaxIntervals = 4096.0;
+constexpr double kMaxRouteSamples = 1 << 20;
+
+double ground_length(const Vec3& a, const Vec3& b) {
+    const double dx = b.x() - a.x(), dz = b.z() - a.z();
+    return std::sqrt(dx * dx + dz * dz);
+}
 
 }  // namespace
 
@@ -24,14 +31,17 @@ RoadProfile RoadProfile::build(const Track& track, const UniformGrid& grid, cons
     if (n == 0) return p;
     p.first_.reserve(n + 1);
     p.gate_y_.reserve(n);
-    for (const Checkpoint& g : gates) p.gate_y_.push_back(g.center.y());
+    double route_m = 0.0;
+    for (std::size_t k = 0; k < n; ++k) {
+        p.gate_y_.push_back(gates[k].center.y());
+        route_m += ground_length(gates[(k + n - 1) % n].center, gates[k].center);
+    }
+    const double spacing_m = std::max(probe.spacing_m, route_m / kMaxRouteSamples);
     for (std::size_t k = 0; k < n; ++k) {
         const Vec3 a = gates[(k + n - 1) % n].center;
         const Vec3 b = gates[k].center;
-        const double dx = b.x() - a.x(), dz = b.z() - a.z();
-        // At least one interval, and a bounded count on a long leg (then
-        // spaced wider than asked).
-        const double want = std::ceil(std::sqrt(dx * dx + dz * dz) / probe.spacing_m);
+        // At least one interval.
+        const double want = std::ceil(ground_length(a, b) / spacing_m);
         const auto intervals = static_cast<std::uint32_t>(std::clamp(want, 1.0, kMaxIntervals));
         p.first_.push_back(static_cast<std::uint32_t>(p.offsets_.size()));
         for (std::uint32_t j = 0; j <= intervals; ++j) {
