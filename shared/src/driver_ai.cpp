@@ -31,21 +31,28 @@ struct Route {
     }
 };
 
+// A point on the route: a fraction `t` (0..1) of the way along the leg
+// into gate `leg`.
+struct RoutePoint {
+    Vec3 at;
+    std::int32_t leg = 0;
+    double t = 0.0;
+};
+
 // Where the car's route starts: its projection onto the leg into gate
-// `next`, in the plane across `up`; `t` is how far along the leg (0..1).
-Vec3 route_start(const Route& r, std::int32_t next, const Vec3& p, const Vec3& up, double& t) {
+// `next`, in the plane across `up`.
+RoutePoint route_start(const Route& r, std::int32_t next, const Vec3& p, const Vec3& up) {
     const Vec3 a = r.at(next - 1).center;
     const Vec3 b = r.at(next).center;
     const Vec3 ab = in_plane(b - a, up);
     const double len2 = ab.squaredNorm();
-    t = len2 > 1e-9 ? std::clamp(in_plane(p - a, up).dot(ab) / len2, 0.0, 1.0) : 1.0;
-    return a + (b - a) * t;
+    const double t = len2 > 1e-9 ? std::clamp(in_plane(p - a, up).dot(ab) / len2, 0.0, 1.0) : 1.0;
+    return {a + (b - a) * t, next, t};
 }
 
 // The point `ahead` metres along the route from route_start() (unit: m).
 Vec3 route_point(const Route& r, std::int32_t next, const Vec3& p, const Vec3& up, double ahead) {
-    double t = 0.0;
-    Vec3 from = route_start(r, next, p, up, t);
+    Vec3 from = route_start(r, next, p, up).at;
     double left = ahead;
     for (std::int32_t i = 0; i < 16 && i < r.count; ++i) {
         const Vec3 leg = r.at(next + i).center - from;
@@ -57,20 +64,13 @@ Vec3 route_point(const Route& r, std::int32_t next, const Vec3& p, const Vec3& u
     return from;
 }
 
-// A point on the route: a fraction `t` (0..1) of the way along the leg
-// into gate `leg`.
-struct RoutePoint {
-    Vec3 at;
-    std::int32_t leg = 0;
-    double t = 0.0;
-};
-
 // The points every `step` metres along the route from route_start(),
 // `count` + 1 of them (the first the start), in one walk.
 void route_points(const Route& r, std::int32_t next, const Vec3& p, const Vec3& up, double step, int count,
                   RoutePoint* out) {
-    double t0 = 0.0;  // where `from` is along the current leg
-    Vec3 from = route_start(r, next, p, up, t0);
+    const RoutePoint start = route_start(r, next, p, up);
+    Vec3 from = start.at;
+    double t0 = start.t;  // where `from` is along the current leg
     double at = 0.0;  // distance along the route to `from` (unit: m)
     std::int32_t leg = next;
     int k = 0;

@@ -1,7 +1,5 @@
 #include "jetrace/road_profile.hpp"
 
-#include "road_height.hpp"
-
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -18,6 +16,45 @@ constexpr double kMaxRouteSamples = 1 << 20;
 double ground_length(const Vec3& a, const Vec3& b) {
     const double dx = b.x() - a.x(), dz = b.z() - a.z();
     return std::sqrt(dx * dx + dz * dz);
+}
+
+// Twice the signed area of (a, b, p) in the ground plan (x, z).
+double cross_xz(const Vec3& a, const Vec3& b, double x, double z) {
+    return (b.x() - a.x()) * (z - a.z()) - (b.z() - a.z()) * (x - a.x());
+}
+
+// Height of the highest of `track`'s triangles (found through `grid`, built
+// over them) that faces upwards (unit normal's y at least `min_up`) above
+// the point (x, z) of the ground plan, between `y_lo` and `y_hi` (unit: m).
+// False if there is none.
+bool road_height(const Track& track, const UniformGrid& grid, double x, double z, double y_lo, double y_hi,
+                 double min_up, double& y) {
+    constexpr double kHalf_m = 1e-3;
+    const Aabb column{Vec3(x - kHalf_m, y_lo, z - kHalf_m), Vec3(x + kHalf_m, y_hi, z + kHalf_m)};
+    bool found = false;
+    double best = y_lo;
+    // The highest hit wins, whatever the order the grid gives the triangles in.
+    grid.for_each_candidate(column, [&](std::uint32_t i) {
+        const Triangle& t = track.triangles[i];
+        // Inside in the ground plan: the three signed areas agree (edges
+        // inclusive; an upward normal makes the winding counter-clockwise).
+        // Tested first: it rejects most candidates without the normal.
+        const double e0 = cross_xz(t.a, t.b, x, z);
+        const double e1 = cross_xz(t.b, t.c, x, z);
+        const double e2 = cross_xz(t.c, t.a, x, z);
+        const bool inside = (e0 >= 0.0 && e1 >= 0.0 && e2 >= 0.0) || (e0 <= 0.0 && e1 <= 0.0 && e2 <= 0.0);
+        if (!inside) return true;
+        const Vec3 n = t.normal();
+        if (n.y() < min_up) return true;
+        const double h = t.a.y() - (n.x() * (x - t.a.x()) + n.z() * (z - t.a.z())) / n.y();
+        if (h >= best && h <= y_hi) {
+            best = h;
+            found = true;
+        }
+        return true;
+    });
+    y = best;
+    return found;
 }
 
 }  // namespace
@@ -47,7 +84,7 @@ RoadProfile RoadProfile::build(const Track& track, const UniformGrid& grid, cons
         for (std::uint32_t j = 0; j <= intervals; ++j) {
             const Vec3 q = a + (b - a) * (static_cast<double>(j) / intervals);
             double y = 0.0;
-            const bool ok = detail::road_height(track, grid, q.x(), q.z(), q.y() - probe.below_m, q.y() + probe.above_m,
+            const bool ok = road_height(track, grid, q.x(), q.z(), q.y() - probe.below_m, q.y() + probe.above_m,
                                                 probe.min_up, y);
             p.offsets_.push_back(ok ? static_cast<std::int16_t>(std::lround((y - q.y()) / kResolution_m)) : kNone);
         }
