@@ -12,8 +12,7 @@ void gather_candidates(const TrackQuery& q, const Vec3& center, double radius_m,
     out.region = Aabb::around(center, radius_m);
     out.region.min += out.lookahead.cwiseMin(Vec3::Zero());
     out.region.max += out.lookahead.cwiseMax(Vec3::Zero());
-    out.triangles.clear();
-    out.boxes.clear();
+    out.clear();
     out.all = q.broadphase == Broadphase::brute_force;
     if (out.all) return;
     const Vec3 slack(kBoxSlack_m, kBoxSlack_m, kBoxSlack_m);
