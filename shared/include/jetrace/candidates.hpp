@@ -2,6 +2,7 @@
 // around it (and ahead of it), and among them those near where it is now.
 #pragma once
 
+#include "jetrace/box_columns.hpp"
 #include "jetrace/geometry.hpp"
 #include "jetrace/math.hpp"
 
@@ -45,11 +46,16 @@ struct Candidates {
     /// region ahead, so one gather serves those steps.
     Vec3 lookahead{0, 0, 0};
     bool all = false;  // brute force: every triangle
+    /// A gather's scratch: what the grid found (index << 32 | place) and
+    /// the bounds of each, before they are ordered.
+    std::vector<std::uint64_t> gathered_keys;
+    std::vector<Aabb> gathered_boxes;
 
     /// Empties the list (before a gather): the focus goes with it.
     void clear() {
         triangles.clear();
         boxes.clear();
+        columns_.clear();
         focus_.reach_m = -1.0;
     }
 
@@ -78,13 +84,11 @@ struct Candidates {
     std::size_t next_touching(std::size_t k, const Vec3& p, double reach_m) const {
         if (all) return k;
         if (!focused_on(p, reach_m)) refocus(p, reach_m + kFocusMargin_m);
-        const double h2 = square(reach_m + kBoxSlack_m);
         const std::vector<std::uint32_t>& near = focus_.places;
         const auto from = std::lower_bound(near.begin(), near.end(), static_cast<std::uint32_t>(k));
-        for (auto it = from; it != near.end(); ++it) {
-            if (box_within(boxes[*it], p.x(), p.y(), p.z(), h2)) return *it;
-        }
-        return boxes.size();
+        const std::size_t j = focus_.boxes.first_within(static_cast<std::size_t>(from - near.begin()), p,
+                                                        square(reach_m + kBoxSlack_m));
+        return j < near.size() ? near[j] : boxes.size();
     }
     /// False if the k-th candidate's box is farther than `reach_m` from `p`
     /// along an axis: it cannot come within `reach_m` of `p`. The sweep's
@@ -120,16 +124,18 @@ private:
     }
     // Makes the focus: the places of every box within reach_m of `center`.
     void refocus(const Vec3& center, double reach_m) const {
+        if (columns_.size() != boxes.size()) {  // the first focus since the gather
+            columns_.clear();
+            for (const Aabb& b : boxes) columns_.push(b);
+        }
         focus_.places.clear();
+        focus_.boxes.clear();
         focus_.center = center;
         focus_.reach_m = reach_m;
-        const double h2 = square(reach_m + kBoxSlack_m);
-        const std::size_t n = boxes.size();
-        for (std::size_t k = 0; k < n; ++k) {
-            if (box_within(boxes[k], center.x(), center.y(), center.z(), h2)) {
-                focus_.places.push_back(static_cast<std::uint32_t>(k));
-            }
-        }
+        columns_.for_each_within(center, square(reach_m + kBoxSlack_m), [&](std::size_t k) {
+            focus_.places.push_back(static_cast<std::uint32_t>(k));
+            focus_.boxes.push(boxes[k]);
+        });
         if (!(reach_m >= 0.0)) focus_.reach_m = -1.0;  // a NaN centre or reach: never reused
     }
 
@@ -137,10 +143,13 @@ private:
     // within reach_m (+ the slack) of `center`; none while reach_m < 0.
     struct Focus {
         std::vector<std::uint32_t> places;
+        BoxColumns boxes;  // the boxes of those places, in the same order
         Vec3 center{0, 0, 0};
         double reach_m = -1.0;
     };
     mutable Focus focus_;
+    // Every box by column, made by the first focus after a gather.
+    mutable BoxColumns columns_;
 };
 
 }  // namespace jetrace
