@@ -12,32 +12,23 @@ void gather_candidates(const TrackQuery& q, const Vec3& center, double radius_m,
     out.region = Aabb::around(center, radius_m);
     out.region.min += out.lookahead.cwiseMin(Vec3::Zero());
     out.region.max += out.lookahead.cwiseMax(Vec3::Zero());
-    out.clear();
+    out.triangles.clear();
+    out.boxes.clear();
     out.all = q.broadphase == Broadphase::brute_force;
     if (out.all) return;
     const Vec3 slack(kBoxSlack_m, kBoxSlack_m, kBoxSlack_m);
     const Aabb query{out.region.min - slack, out.region.max + slack};
     // The triangles whose own bounds reach the query (the grid reports
-    // every triangle bucketed in the cells it touches), each with its
-    // bounds and keyed by its index and its place among those found.
-    std::vector<std::uint64_t>& keys = out.gathered_keys;
-    std::vector<Aabb>& found = out.gathered_boxes;
-    keys.clear();
-    found.clear();
+    // every triangle bucketed in the cells it touches), filtered before the
+    // sort, which then orders only those kept.
     q.grid.for_each_candidate(query, [&](std::uint32_t t) {
-        const Aabb b = q.track.triangles[t].bounds();
-        if (!b.overlaps(query)) return;
-        keys.push_back(std::uint64_t{t} << 32 | found.size());
-        found.push_back(b);
+        if (q.track.triangles[t].bounds().overlaps(query)) out.triangles.push_back(t);
     });
     // Canonical order: ascending triangle index, the brute-force order. The
     // result of a step then does not depend on which cells were visited or
     // on how large the gathered region was, only on the geometry.
-    std::sort(keys.begin(), keys.end());
-    for (const std::uint64_t k : keys) {
-        out.triangles.push_back(static_cast<std::uint32_t>(k >> 32));
-        out.boxes.push_back(found[static_cast<std::uint32_t>(k)]);
-    }
+    std::sort(out.triangles.begin(), out.triangles.end());
+    for (const std::uint32_t t : out.triangles) out.boxes.push_back(q.track.triangles[t].bounds());
 }
 
 GatherReach gather_reach(const PhysicsSettings& s, GatherFor why, double motion_m) {
