@@ -50,6 +50,7 @@ jetrace::client::ClientConfig config_for(const BotOptions& o, int i, std::string
     cc.welcome_timeout_s *= o.time_scale;
     cc.predict = !o.thin;
     cc.target_margin_ticks = o.target_margin;
+    cc.input_delay_ticks = o.input_delay;
     return cc;
 }
 

@@ -72,6 +72,10 @@ void add_options(CLI::App& app, BotOptions& o) {
     app.add_option("--target-margin", o.target_margin,
                    "ticks early the bots aim for their inputs to reach the server, on top of the jitter allowance")
         ->check(cli::finite())->check(CLI::Range(0.0, 30.0));
+    app.add_option("--input-delay", o.input_delay,
+                   "ticks between the tick a bot's driver decides an input at and the tick it is for (sent at once, "
+                   "so the other bots' predictions know it)")
+        ->check(CLI::Range(std::uint32_t{0}, client::kMaxInputDelayTicks));
     app.add_option("--join-window", o.join_window_s,
                    "if the server cannot be reached, keep trying to join this long (s; 0: never)")
         ->check(cli::finite())->check(CLI::Range(0.0, 3600.0));

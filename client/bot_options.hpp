@@ -39,6 +39,7 @@ struct BotOptions {
     double join_window_s = 10.0;
     /// (unit: ticks)
     double target_margin = client::ClientConfig{}.target_margin_ticks;
+    std::uint32_t input_delay = client::ClientConfig{}.input_delay_ticks;
     std::vector<std::string> token_texts;
     std::string token_file;
 

@@ -127,6 +127,12 @@ jetrace_cli_test(NAME cli_bot_rejects_infinite_time_scale COMMAND jetrace-bot --
 # Matched on CLI11's message: a bot that ran instead would also exit non-zero.
 jetrace_cli_test(NAME cli_bot_rejects_negative_join_window COMMAND jetrace-bot --connect 127.0.0.1:9 --join-window -1
   REGEX "--join-window: Value -1 not in range" LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_bot_rejects_input_delay_over_30_ticks COMMAND jetrace-bot --connect 127.0.0.1:9 --input-delay 31
+  REGEX "--input-delay: Value 31 not in range" LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_bot_rejects_fractional_input_delay COMMAND jetrace-bot --connect 127.0.0.1:9 --input-delay 2.5
+  REGEX "--input-delay: Value 2.5 not in range" LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_bot_rejects_nan_input_delay COMMAND jetrace-bot --connect 127.0.0.1:9 --input-delay nan
+  REGEX "--input-delay: Value nan not in range" LABELS quick TIMEOUT 20)
 jetrace_cli_test(NAME cli_bot_rejects_invalid_utf8_name
   COMMAND sh -c "\"$0\" --connect 127.0.0.1:9 --name \"$(printf 'a\\377')\" 2>&1; echo exit=$?" $<TARGET_FILE:jetrace-bot>
   REGEX "--name must be valid UTF-8 text of at most 30 bytes\nexit=2" LABELS quick TIMEOUT 20)

@@ -138,4 +138,38 @@ TEST(Predictor, ThinKeepsTheNewestSnapshotAtTheClocksTick) {
     EXPECT_EQ(p.work().replayed_ticks, 0u);
 }
 
+// With an input delay of D ticks, the input given at tick t is stepped at
+// t + D (the first D ticks with a neutral one), the prediction is the plain
+// replay with those inputs, and the inputs go out as soon as they are given.
+TEST(Predictor, AnInputDelayedByDTicksIsSteppedDTicksLaterAndSentAtOnce) {
+    jetrace::Track t;
+    jetrace::make_builtin_track("ring", t);
+    const auto scene = jetrace::Scene::make(std::move(t), jetrace::PhysicsSettings{});
+    constexpr std::uint32_t kTicks = 24, kDelay = 5;
+    const ServerRun run = run_server(scene, 4, kTicks + kDelay);
+    std::mt19937_64 rng(3);
+    const auto snap0 = snapshot_at(run, 0, rng);
+    const std::size_t own = 2;
+    Predictor p(false, kDelay);
+    p.start(run.worlds[0]);
+    std::vector<Input> stepped(kTicks + kDelay);
+    for (std::uint32_t k = 0; k < kTicks; ++k) {
+        const Input given = run.inputs[k][own];
+        p.run_tick(scene, own, given, snap0);
+        stepped[k + kDelay] = given;
+    }
+    for (std::uint32_t k = 0; k < kTicks + kDelay; ++k) {
+        ASSERT_NE(p.my_input(k), nullptr) << "tick " << k;
+        EXPECT_TRUE(*p.my_input(k) == stepped[k]) << "tick " << k;
+    }
+    EXPECT_EQ(p.my_input(kTicks + kDelay), nullptr);
+    EXPECT_TRUE(jetrace::client::same_world(p.world(), full_replay(scene, snap0, own, stepped, kTicks)));
+    // Sent: every input given so far, the last one for the tick kDelay ahead.
+    jetrace::proto::InputBatch b;
+    ASSERT_TRUE(p.unapplied_inputs(jetrace::proto::kNoTick, b));
+    EXPECT_EQ(b.first_tick + b.inputs.size(), kTicks + kDelay);
+    EXPECT_TRUE(b.inputs.back() == stepped[kTicks + kDelay - 1]);
+}
+
 }  // namespace
+

@@ -16,6 +16,7 @@
 #                      [--time-scale X] [--thin] [--build DIR] [--keep DIR]
 #                      [--server BIN] [--bot BIN]   (default: under --build)
 #                      [--target-margin TICKS]      (jetrace-bot's, default 2)
+#                      [--input-delay TICKS]        (jetrace-bot's, default 0)
 #                      [--finish-window S]          (the servers', default theirs: 60)
 # Exits non-zero if a process failed to start or the server failed; the
 # figures say how many bots finished (the caller decides what is enough).
@@ -23,7 +24,7 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 . "$root/tools/server_port.sh"
 
-finish_window="" margin=2 bots=8 servers=1 track=stadium laps=1 scale=1 thin="" build="$root/build" keep="" server="" bot=""
+finish_window="" margin=2 delay=0 bots=8 servers=1 track=stadium laps=1 scale=1 thin="" build="$root/build" keep="" server="" bot=""
 usage() { sed -n '/^# Usage/,/^# Exits/p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 need() { [ $# -ge 2 ] || { echo "load.sh: $1 needs a value" >&2; exit 2; }; }
 while [ $# -gt 0 ]; do
@@ -39,6 +40,7 @@ while [ $# -gt 0 ]; do
     --server) need "$@"; server="$2"; shift 2 ;;
     --bot) need "$@"; bot="$2"; shift 2 ;;
     --target-margin) need "$@"; margin="$2"; shift 2 ;;
+    --input-delay) need "$@"; delay="$2"; shift 2 ;;
     --finish-window) need "$@"; finish_window="$2"; shift 2 ;;
     -h|--help) usage ;;
     *) echo "load.sh: unknown argument '$1'" >&2; usage ;;
@@ -53,6 +55,7 @@ per_server=$((bots / servers))
 is_int "$per_server" 1 64 || { echo "load.sh: at most 64 bots per server" >&2; exit 2; }
 [[ "$scale" =~ ^[0-9]+(\.[0-9]+)?$ ]] || { echo "load.sh: --time-scale must be a number" >&2; exit 2; }
 [[ "$margin" =~ ^[0-9]+(\.[0-9]+)?$ ]] || { echo "load.sh: --target-margin must be a number" >&2; exit 2; }
+[[ "$delay" =~ ^[0-9]+$ ]] || { echo "load.sh: --input-delay must be a whole number of ticks" >&2; exit 2; }
 [ -z "$finish_window" ] || [[ "$finish_window" =~ ^[0-9]+(\.[0-9]+)?$ ]] ||
   { echo "load.sh: --finish-window must be a number of seconds" >&2; exit 2; }
 server="${server:-$build/server/jetrace-server}" bot="${bot:-$build/client/jetrace-bot}"
@@ -85,6 +88,7 @@ done
 
 margin_arg=""
 [ "$margin" = 2 ] || margin_arg="--target-margin $margin"
+[ "$delay" = 0 ] || margin_arg="$margin_arg --input-delay $delay"
 rc=0
 /usr/bin/time -f '%U %S %e' -o "$out/bot.time" \
   "$bot" "${connects[@]}" --count "$bots" --time-scale "$scale" $margin_arg $thin \
@@ -110,12 +114,12 @@ cat "$out"/server*.log | grep '^{' >"$out/servers.json" || true
 cat "$out"/results*.json >"$out/results.json" 2>/dev/null || true
 read -r bot_user bot_sys bot_wall < <(tail -n 1 "$out/bot.time") 2>/dev/null || { echo "load.sh: no bot timing" >&2; exit 1; }
 jq -s -c --argjson bots "$bots" --argjson servers "$servers" --arg track "$track" --argjson laps "$laps" \
-  --argjson scale "$scale" --argjson margin "$margin" --arg window "$finish_window" --arg mode "${thin:+thin}" --argjson cpu "$(awk -v u="$bot_user" -v s="$bot_sys" 'BEGIN { print u + s }')" \
+  --argjson scale "$scale" --argjson margin "$margin" --argjson delay "$delay" --arg window "$finish_window" --arg mode "${thin:+thin}" --argjson cpu "$(awk -v u="$bot_user" -v s="$bot_sys" 'BEGIN { print u + s }')" \
   --argjson wall "$bot_wall" --slurpfile srv "$out/servers.json" --slurpfile res "$out/results.json" '
   def mean(f): if length == 0 then 0 else (map(f) | add / length) end;
   {
     mode: (if $mode == "thin" then "thin" else "predicting" end),
-    track: $track, laps: $laps, time_scale: $scale, servers: $servers, target_margin_ticks: $margin,
+    track: $track, laps: $laps, time_scale: $scale, servers: $servers, target_margin_ticks: $margin, input_delay_ticks: $delay,
     finish_window_s: (if $window == "" then 60 else ($window | tonumber) end),
     bots: $bots,
     bot_lines: length,

@@ -83,7 +83,7 @@ void Predictor::reset() {
 void Predictor::start(const WorldState& w) { world_ = w; }
 
 bool Predictor::unapplied_inputs(std::uint32_t last_applied, proto::InputBatch& b) const {
-    const std::uint32_t end = world_.tick;  // inputs for ticks < end exist
+    const std::uint32_t end = world_.tick + delay_;  // inputs for ticks < end exist
     std::uint32_t first = last_applied == proto::kNoTick ? 0 : last_applied + 1;
     const auto most = static_cast<std::uint32_t>(proto::kMaxInputsPerBatch);
     if (end > most && first < end - most) first = end - most;
@@ -119,7 +119,13 @@ void Predictor::step_kept(const Scene& scene, WorldState& w, const std::vector<I
 
 void Predictor::run_tick(const Scene& scene, std::size_t own, const Input& mine, const proto::WorldSnapshot& latest) {
     const std::uint32_t t = world_.tick;
-    my_inputs_.insert(t, mine);
+    // With an input delay, ticks t .. t + delay - 1 have their inputs from
+    // earlier ticks; any that has none (the first ticks, or the clock jumped)
+    // gets a neutral one now, so that the inputs sent have no gap.
+    for (std::uint32_t k = t; k != t + delay_; ++k) {
+        if (!my_inputs_.has(k)) my_inputs_.insert(k, Input{});
+    }
+    my_inputs_.insert(t + delay_, mine);
     if (thin_) {
         ++world_.tick;
         return;

@@ -7,11 +7,20 @@
 
 namespace jetrace::client {
 
+/// Largest ClientConfig::input_delay_ticks (unit: ticks).
+inline constexpr std::uint32_t kMaxInputDelayTicks = 30;
+
 struct ClientConfig {
     std::string name = "player";
     /// How many ticks early the client aims for its inputs to reach the
     /// server, on top of the jitter allowance (unit: ticks).
     double target_margin_ticks = 2.0;
+    /// Input delay: the input the caller gives at a tick is for the tick
+    /// this many later, and is sent at once, so the server and through its
+    /// snapshots the other clients hold it that much earlier; what the
+    /// client predicts with it does not change. 0: for the tick it is given
+    /// at (unit: ticks, at most kMaxInputDelayTicks).
+    std::uint32_t input_delay_ticks = 0;
     /// Jitter allowance: this many RTT standard deviations (unit: 1).
     double jitter_margin_sigmas = 2.0;
     /// Largest speed-up or slow-down of the client's tick clock (unit: fraction).

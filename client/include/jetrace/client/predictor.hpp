@@ -24,12 +24,14 @@
 // inputs, for sending.
 #pragma once
 
+#include "jetrace/client/client_config.hpp"
 #include "jetrace/proto/messages.hpp"
 #include "jetrace/proto/world_codec.hpp"
 #include "jetrace/tick_ring.hpp"
 #include "jetrace/world.hpp"
 
 #include <array>
+#include <cassert>
 #include <cstdint>
 #include <vector>
 
@@ -55,7 +57,12 @@ public:
         std::uint64_t reused_car_steps = 0;
     };
 
-    explicit Predictor(bool thin = false) : thin_(thin) {}
+    /// `input_delay_ticks`: the own input given to run_tick() at tick t is
+    /// for tick t + input_delay_ticks (ClientConfig::input_delay_ticks).
+    explicit Predictor(bool thin = false, std::uint32_t input_delay_ticks = 0)
+        : thin_(thin), delay_(input_delay_ticks) {
+        assert(input_delay_ticks <= kMaxInputDelayTicks);
+    }
 
     /// Forgets the world, the inputs and the kept ticks.
     void reset();
@@ -66,8 +73,11 @@ public:
     const WorldState& world() const { return world_; }
     bool thin() const { return thin_; }
 
-    /// Steps the world one tick: the own car (slot `own`) with `mine`, the
-    /// others with the inputs `latest` knows for the tick.
+    /// Steps the world one tick: the own car (slot `own`) with its input for
+    /// the tick, the others with the inputs `latest` knows for it. `mine` is
+    /// the own input for the tick input_delay_ticks later (with no delay,
+    /// this one); a tick no input was given for (the first ones, or after
+    /// the clock jumped) gets a neutral one, sent like the others.
     void run_tick(const Scene& scene, std::size_t own, const Input& mine, const proto::WorldSnapshot& latest);
     /// Restores the snapshot's world and brings it back to the predicted
     /// tick (see the file comment). `check_own`: compare the own car with its
@@ -78,12 +88,14 @@ public:
     const Input* my_input(std::uint32_t t) const { return my_inputs_.find(t); }
     /// Fills `b` (first_tick, inputs) with the own inputs the server has not
     /// applied yet: after `last_applied` (kNoTick: none), up to the predicted
-    /// tick, at most kMaxInputsPerBatch, none older than a gap. False: none.
+    /// tick (plus the input delay), at most kMaxInputsPerBatch, none older
+    /// than a gap. False: none.
     bool unapplied_inputs(std::uint32_t last_applied, proto::InputBatch& b) const;
     const Work& work() const { return work_; }
 
 private:
     static constexpr std::size_t kRing = 256;
+    static_assert(kMaxInputDelayTicks < kRing / 2);
     /// Ticks whose start world is kept (more than the largest lead).
     static constexpr std::size_t kFrames = 64;
     struct Frame {
@@ -110,6 +122,7 @@ private:
     bool find_reusable(const Scene& scene, const Frame& kept);
 
     bool thin_ = false;
+    std::uint32_t delay_ = 0;
     WorldState world_;
     WorldState replay_;  // the replay's world
     StepScratch scratch_;
