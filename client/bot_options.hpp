@@ -39,7 +39,11 @@ struct BotOptions {
     double join_window_s = 10.0;
     /// (unit: ticks)
     double target_margin = client::ClientConfig{}.target_margin_ticks;
-    std::uint32_t input_delay = client::ClientConfig{}.input_delay_ticks;
+    /// Bots decide their inputs this many ticks ahead (ClientConfig::
+    /// input_delay_ticks), so the other bots' predictions know them: with
+    /// 64 bots on stadium, 2 corrections in a race instead of 7,838
+    /// (docs/PERFORMANCE.md, "Load"); the AI reacts 33 ms later (unit: ticks).
+    std::uint32_t input_delay = 4;
     std::vector<std::string> token_texts;
     std::string token_file;
 

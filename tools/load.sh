@@ -16,7 +16,7 @@
 #                      [--time-scale X] [--thin] [--build DIR] [--keep DIR]
 #                      [--server BIN] [--bot BIN]   (default: under --build)
 #                      [--target-margin TICKS]      (jetrace-bot's, default 2)
-#                      [--input-delay TICKS]        (jetrace-bot's, default 0)
+#                      [--input-delay TICKS]        (jetrace-bot's, default 4)
 #                      [--finish-window S]          (the servers', default theirs: 60)
 # Exits non-zero if a process failed to start or the server failed; the
 # figures say how many bots finished (the caller decides what is enough).
@@ -24,7 +24,7 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 . "$root/tools/server_port.sh"
 
-finish_window="" margin=2 delay=0 bots=8 servers=1 track=stadium laps=1 scale=1 thin="" build="$root/build" keep="" server="" bot=""
+finish_window="" margin=2 delay=4 bots=8 servers=1 track=stadium laps=1 scale=1 thin="" build="$root/build" keep="" server="" bot=""
 usage() { sed -n '/^# Usage/,/^# Exits/p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 need() { [ $# -ge 2 ] || { echo "load.sh: $1 needs a value" >&2; exit 2; }; }
 while [ $# -gt 0 ]; do
@@ -88,7 +88,7 @@ done
 
 margin_arg=""
 [ "$margin" = 2 ] || margin_arg="--target-margin $margin"
-[ "$delay" = 0 ] || margin_arg="$margin_arg --input-delay $delay"
+margin_arg="$margin_arg --input-delay $delay"
 rc=0
 /usr/bin/time -f '%U %S %e' -o "$out/bot.time" \
   "$bot" "${connects[@]}" --count "$bots" --time-scale "$scale" $margin_arg $thin \
