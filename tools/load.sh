@@ -88,10 +88,9 @@ done
 
 margin_arg=""
 [ "$margin" = 2 ] || margin_arg="--target-margin $margin"
-margin_arg="$margin_arg --input-delay $delay"
 rc=0
 /usr/bin/time -f '%U %S %e' -o "$out/bot.time" \
-  "$bot" "${connects[@]}" --count "$bots" --time-scale "$scale" $margin_arg $thin \
+  "$bot" "${connects[@]}" --count "$bots" --time-scale "$scale" $margin_arg --input-delay "$delay" $thin \
   --max-seconds "$(( laps * 120 + 60 + window_s ))" >"$out/bots.json" 2>"$out/bots.err" || rc=$?
 # A server whose bots are gone ends its race and exits; one still waiting
 # for players after 30 s never got them all (see bots.err).

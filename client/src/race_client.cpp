@@ -8,13 +8,15 @@ namespace jetrace::client {
 
 RaceClient::RaceClient(const ClientConfig& config, KnownScenes scenes, net::Transport& transport)
     : config_(config), scenes_(config.name, std::move(scenes)), link_(config, transport), clock_(config),
-      predictor_(!config.predict, config.input_delay_ticks), interpolator_(config.interpolation_snapshots, config.smoothing_per_tick) {
+      predictor_(!config.predict, config.input_delay_ticks),
+      interpolator_(config.interpolation_snapshots, config.smoothing_per_tick) {
     init();
 }
 
 RaceClient::RaceClient(const ClientConfig& config, KnownScenes scenes, Connector connect)
     : config_(config), scenes_(config.name, std::move(scenes)), link_(config, std::move(connect)), clock_(config),
-      predictor_(!config.predict, config.input_delay_ticks), interpolator_(config.interpolation_snapshots, config.smoothing_per_tick) {
+      predictor_(!config.predict, config.input_delay_ticks),
+      interpolator_(config.interpolation_snapshots, config.smoothing_per_tick) {
     init();
 }
 

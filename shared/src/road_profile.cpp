@@ -85,7 +85,7 @@ RoadProfile RoadProfile::build(const Track& track, const UniformGrid& grid, cons
             const Vec3 q = a + (b - a) * (static_cast<double>(j) / intervals);
             double y = 0.0;
             const bool ok = road_height(track, grid, q.x(), q.z(), q.y() - probe.below_m, q.y() + probe.above_m,
-                                                probe.min_up, y);
+                                        probe.min_up, y);
             p.offsets_.push_back(ok ? static_cast<std::int16_t>(std::lround((y - q.y()) / kResolution_m)) : kNone);
         }
     }
