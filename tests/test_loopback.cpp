@@ -149,6 +149,44 @@ TEST(Loopback, EightBotsLossLatencyJitterDuplicationReordering) {
     EXPECT_EQ(jetrace::hash_hex(o.replay_hash), jetrace::hash_hex(o.end.state_hash));
 }
 
+TEST(Loopback, BotsWithAnInputDelayStillPredictAheadOfTheServer) {
+    // With an input delay of 4 ticks the inputs reach the server 4 ticks
+    // earlier than without, and the prediction itself still runs ahead of
+    // the server: the clock keeps its target margin for the predicted tick,
+    // not for the newest input (which is 4 ticks further on).
+    jetrace::test::LiveRaceOptions opt;
+    opt.bots = 4;
+    opt.input_delay_ticks = 4;
+    jetrace::test::LiveRace live(opt);
+    ASSERT_TRUE(live.ok()) << live.error;
+    int samples = 0, ahead = 0;
+    const bool done = live.run(
+        [&] {
+            const auto& server = live.server();
+            if (server.phase() != jetrace::proto::RacePhase::racing) return;
+            const std::uint32_t now = server.world().tick;
+            for (int i = 0; i < live.bots(); ++i) {
+                const auto& c = *live.bot(i).client;
+                if (c.predicted_tick() == 0) continue;
+                ++samples;
+                // Ahead by the target margin (2 ticks) at least.
+                ahead += c.predicted_tick() >= now + 2 ? 1 : 0;
+            }
+        },
+        240.0);
+    ASSERT_TRUE(done) << "the race did not end in time";
+    for (int i = 0; i < live.bots(); ++i) {
+        EXPECT_TRUE(live.finished(i)) << "bot " << i << " did not finish";
+        EXPECT_EQ(live.bot(i).client->stats().corrections, 0u) << "bot " << i;
+        EXPECT_EQ(live.bot(i).client->stats().late_inputs, 0u) << "bot " << i;
+        // Behind the server, every snapshot would restart the clock.
+        EXPECT_LT(live.bot(i).client->stats().clock_resyncs, 10u) << "bot " << i;
+    }
+    ASSERT_GT(samples, 1000);
+    EXPECT_GT(ahead, samples * 9 / 10) << "the prediction ran less than 2 ticks ahead of the server (" << ahead << " of "
+                                       << samples << " samples 2 or more ahead)";
+}
+
 TEST(Loopback, TwoRacesInARow) {
     // Clients stay connected for a second race: a fresh world whose ticks
     // start again from 0 must not confuse their input or snapshot state.

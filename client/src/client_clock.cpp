@@ -21,7 +21,8 @@ constexpr double kAdjustPerTick = 0.01;
 ClientClock::ClientClock(const ClientConfig& config)
     : target_margin_ticks_(config.target_margin_ticks),
       jitter_margin_sigmas_(config.jitter_margin_sigmas),
-      max_adjust_(config.max_clock_adjust) {}
+      max_adjust_(config.max_clock_adjust),
+      input_delay_ticks_(config.input_delay_ticks) {}
 
 void ClientClock::start(std::uint64_t now_us, double rtt_ms) {
     const double lead = rtt_ms * 1000.0 / clock_.period_us() + target_margin_ticks_ + 2.0;
@@ -40,7 +41,9 @@ void ClientClock::adjust(proto::RacePhase phase, std::int16_t input_margin_ticks
     if (input_margin_ticks == kNoMargin) return;
     const double sigma_ticks = rtt_variance_ms * 1000.0 / clock_.period_us();
     const double target = target_margin_ticks_ + jitter_margin_sigmas_ * sigma_ticks;
-    const double error = input_margin_ticks - target;
+    // The newest input is for the predicted tick plus the input delay: the
+    // margin that the prediction itself keeps is the rest.
+    const double error = input_margin_ticks - input_delay_ticks_ - target;
     if (error < -kJumpBehindTicks) {
         // Inputs arrive late: jump ahead rather than drift.
         clock_.bring_forward(static_cast<std::uint64_t>(std::min(-error, kMaxJumpTicks) * clock_.period_us()));

@@ -77,6 +77,8 @@ struct LiveRaceOptions {
     bool log_levels_from_env = false;
     /// The track raced on (null: the built-in ring).
     const Track* track = nullptr;
+    /// ClientConfig::input_delay_ticks of the bots connected at the start (unit: ticks).
+    std::uint32_t input_delay_ticks = 0;
     /// Last changes to the server's configuration (e.g. a connect key).
     std::function<void(server::ServerConfig&)> tweak;
 };
@@ -166,6 +168,7 @@ public:
             auto sent = std::make_unique<SentInputs>(std::move(t));
             client::ClientConfig cc;
             cc.name = "bot" + std::to_string(i);
+            cc.input_delay_ticks = o.input_delay_ticks;
             Bot& b = new_bot();
             b.sent = sent.get();
             t = std::move(sent);

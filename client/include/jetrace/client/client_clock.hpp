@@ -2,7 +2,11 @@
 // server's, so that each input reaches the server a few ticks before the
 // server steps its tick. It starts ahead by the estimated lead, then drifts
 // (a rate adjustment) towards the margin the server reports, or jumps when
-// far behind (docs/PROTOCOL.md, "Timing and input flow").
+// far behind (docs/PROTOCOL.md, "Timing and input flow"). With an input
+// delay of D ticks the newest input the server holds is for the predicted
+// tick + D: the clock keeps the target margin for the predicted tick, so
+// the inputs arrive D ticks earlier still, and the prediction stays ahead
+// of the server as without a delay.
 #pragma once
 
 #include "jetrace/client/client_config.hpp"
@@ -27,7 +31,8 @@ public:
     /// The prediction fell behind the server: ticks from `now_us` on.
     void resync(std::uint64_t now_us);
     /// Steers the lead by the server's input margin of a snapshot (only
-    /// while the race counts down or runs, and once the server has inputs).
+    /// while the race counts down or runs, and once the server has inputs),
+    /// less the input delay.
     void adjust(proto::RacePhase phase, std::int16_t input_margin_ticks, double rtt_variance_ms);
     /// Forgets the rate adjustment.
     void reset() { adjust_ = 0; }
@@ -45,6 +50,7 @@ private:
     double target_margin_ticks_;
     double jitter_margin_sigmas_;
     double max_adjust_;
+    double input_delay_ticks_;  // ClientConfig::input_delay_ticks (unit: ticks)
     TickClock clock_{1e6 / 120};
     /// Rate adjustment: the period is scaled by 1 + adjust_ (unit: fraction).
     double adjust_ = 0;

@@ -17,9 +17,11 @@ struct ClientConfig {
     double target_margin_ticks = 2.0;
     /// Input delay: the input the caller gives at a tick is for the tick
     /// this many later, and is sent at once, so the server and through its
-    /// snapshots the other clients hold it that much earlier; what the
-    /// client predicts with it does not change. 0: for the tick it is given
-    /// at (unit: ticks, at most kMaxInputDelayTicks).
+    /// snapshots the other clients hold it that much earlier. The client's
+    /// clock still runs the prediction target_margin_ticks ahead of the
+    /// server (the inputs then arrive target_margin_ticks + this early).
+    /// 0: for the tick it is given at (unit: ticks, at most
+    /// kMaxInputDelayTicks).
     std::uint32_t input_delay_ticks = 0;
     /// Jitter allowance: this many RTT standard deviations (unit: 1).
     double jitter_margin_sigmas = 2.0;
