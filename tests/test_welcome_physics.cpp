@@ -93,4 +93,4 @@ TEST(WelcomePhysics, RejectsSettingsTheCoreCannotStep) {
         << error;
 }
 
-TEST(WelcomePhysics, ProtocolVersionIsFive) { EXPECT_EQ(jp::kProtocolVersion, 5); }
+TEST(WelcomePhysics, ProtocolVersionIsSix) { EXPECT_EQ(jp::kProtocolVersion, 6); }

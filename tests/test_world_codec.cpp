@@ -238,11 +238,11 @@ TEST(ProtoWorld, ExtremeFieldValuesRoundTrip) {
     round_trip(b, &a);
     round_trip(a, &a);
     round_trip(b, &b);
-    // Identical slots: 12 header bits, one bit per slot, and a 3-bit
+    // Identical slots: 12 header bits, one bit per slot, and a 4-bit
     // upcoming-input count (zero here) per active car.
     std::size_t active = 0;
     for (const auto& car : b.state.cars) active += car.active ? 1 : 0;
-    EXPECT_EQ(jp::encode_world(b, &b).size(), (12 + b.state.cars.size() + 3 * active + 7) / 8);
+    EXPECT_EQ(jp::encode_world(b, &b).size(), (12 + b.state.cars.size() + 4 * active + 7) / 8);
 }
 
 TEST(ProtoWorld, RejectsInputsThatPackNeverProduces) {

@@ -296,7 +296,7 @@ std::int64_t put_header(BitWriter& w, const WorldSnapshot& now, const WorldSnaps
     return n;
 }
 
-// Upcoming inputs of active cars: a 3-bit count, then each input as "same
+// Upcoming inputs of active cars: a 4-bit count, then each input as "same
 // as the one before" (starting from the last input) or 10 bits.
 void put_upcoming(BitWriter& w, const WorldSnapshot& now) {
     const WorldState& s = now.state;
@@ -304,7 +304,7 @@ void put_upcoming(BitWriter& w, const WorldSnapshot& now) {
         if (!s.cars[i].active) continue;
         const std::size_t count =
             i < now.upcoming.size() ? std::min(now.upcoming[i].size(), kMaxUpcomingInputs) : std::size_t{0};
-        w.put(count, 3);
+        w.put(count, kUpcomingCountBits);
         Input prev = now.last_inputs[i];
         for (std::size_t k = 0; k < count; ++k) {
             const Input& in = now.upcoming[i][k];
@@ -443,7 +443,7 @@ bool decode_into(std::span<const std::uint8_t> bytes, const WorldSnapshot* basel
     for (std::size_t i = 0; i < slots; ++i) {
         if (!s.cars[i].active) continue;
         r.set_prefix("slot " + std::to_string(i) + " ");
-        if (!r.bits("upcoming count", 3, v)) return false;
+        if (!r.bits("upcoming count", kUpcomingCountBits, v)) return false;
         const auto count = static_cast<std::size_t>(v);
         Input prev = out.last_inputs[i];
         for (std::size_t k = 0; k < count; ++k) {

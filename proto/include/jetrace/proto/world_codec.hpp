@@ -32,8 +32,12 @@ struct WorldSnapshot {
     std::vector<std::vector<Input>> upcoming;
 };
 
-/// Most upcoming inputs a snapshot carries per car.
-inline constexpr std::size_t kMaxUpcomingInputs = 7;
+/// Bits of a car's upcoming-input count in the world payload.
+inline constexpr int kUpcomingCountBits = 4;
+/// Most upcoming inputs a snapshot carries per car: 15, room for the inputs
+/// of a client with an input delay (ClientConfig::input_delay_ticks) of up to
+/// about 12 ticks on top of its margin.
+inline constexpr std::size_t kMaxUpcomingInputs = (std::size_t{1} << kUpcomingCountBits) - 1;
 
 /// Encodes `now` against `baseline` (nullptr: no baseline). Both must have
 /// the same number of slots (<= kMaxSlots) and quantised states.
