@@ -40,9 +40,9 @@ struct BotOptions {
     /// (unit: ticks)
     double target_margin = client::ClientConfig{}.target_margin_ticks;
     /// Bots decide their inputs this many ticks ahead (ClientConfig::
-    /// input_delay_ticks), so the other bots' predictions know them: with
-    /// 64 bots on stadium, 2 corrections in a race instead of 7,838
-    /// (docs/PERFORMANCE.md, "Load"); the AI reacts 33 ms later (unit: ticks).
+    /// input_delay_ticks), so the other bots' predictions know them instead
+    /// of guessing (docs/PERFORMANCE.md, "Load"); the AI reacts 33 ms later
+    /// (unit: ticks).
     std::uint32_t input_delay = 4;
     std::vector<std::string> token_texts;
     std::string token_file;

@@ -4,8 +4,9 @@
 # finish (the server's results) and receive the Results before the server
 # exits (its own line), every bot's reconciliation must have taken
 # its shortcuts, and corrections must stay below 2 % of the snapshots (with
-# no loss on 127.0.0.1 a correction comes only from an input that reached the
-# server too late, which a loaded shared machine causes now and then, more
+# no loss on 127.0.0.1 a correction comes only from a stall: an input that
+# reached the server too late, or snapshots too far apart for the upcoming
+# inputs they carry, which a loaded shared machine causes now and then, more
 # often at 2x where the one bot process has half the time per tick; that
 # the shortened replay equals the full one bit for bit is test_predictor's,
 # and zero corrections on an unloaded link test_loopback's). Then 16 thin
