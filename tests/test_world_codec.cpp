@@ -261,9 +261,12 @@ TEST(ProtoWorld, UpcomingInputsRoundTrip) {
     jp::WorldSnapshot now = race.history[race.history.size() / 2];
     const jp::WorldSnapshot& base = race.history[race.history.size() / 2 - 2];
     now.upcoming.assign(now.state.cars.size(), {});
+    // Counts over the whole range of the 4-bit field, and one over it
+    // (slot 1: the encoder keeps the first kMaxUpcomingInputs).
     for (std::size_t i = 0; i < now.state.cars.size(); ++i) {
         if (!now.state.cars[i].active) continue;
-        for (std::size_t k = 0; k < i % (jp::kMaxUpcomingInputs + 1); ++k) {
+        const std::size_t count = i == 1 ? jp::kMaxUpcomingInputs + 1 : (i * 5) % (jp::kMaxUpcomingInputs + 1);
+        for (std::size_t k = 0; k < count; ++k) {
             now.upcoming[i].push_back(jetrace::Input::clamped(static_cast<int>(k * 3 % 16), static_cast<int>(k) - 3, static_cast<int>(k % 2)));
         }
     }
@@ -272,9 +275,13 @@ TEST(ProtoWorld, UpcomingInputsRoundTrip) {
         std::string error;
         ASSERT_TRUE(jp::decode_world(jp::encode_world(now, b), b, out, error)) << error;
         ASSERT_EQ(out.upcoming.size(), now.state.cars.size());
+        std::size_t largest = 0;
         for (std::size_t i = 0; i < now.state.cars.size(); ++i) {
-            ASSERT_EQ(out.upcoming[i].size(), now.upcoming[i].size()) << "slot " << i;
-            for (std::size_t k = 0; k < now.upcoming[i].size(); ++k) EXPECT_EQ(out.upcoming[i][k], now.upcoming[i][k]);
+            const std::size_t kept = std::min(now.upcoming[i].size(), jp::kMaxUpcomingInputs);
+            ASSERT_EQ(out.upcoming[i].size(), kept) << "slot " << i;
+            for (std::size_t k = 0; k < kept; ++k) EXPECT_EQ(out.upcoming[i][k], now.upcoming[i][k]);
+            largest = std::max(largest, out.upcoming[i].size());
         }
+        EXPECT_EQ(largest, jp::kMaxUpcomingInputs) << "no slot carried the most upcoming inputs";
     }
 }
