@@ -157,15 +157,23 @@ void check_grid_against_brute(const Track& track, const std::vector<Vec3>& centr
             ++failures;
             ADD_FAILURE() << "gather_candidates at " << str(c) << " is unsorted, has duplicates or misses a triangle";
         }
-        // ... and keeps exactly the triangles whose bounds reach the gathered
-        // region, each with its bounds.
+        // ... and keeps exactly the triangles whose grid boxes (their bounds
+        // rounded outward to floats) reach the gathered region, each with
+        // that box, which contains the triangle.
         std::vector<std::uint32_t> overlapping;
         const Vec3 slack(kBoxSlack_m, kBoxSlack_m, kBoxSlack_m);
         const Aabb region{cand.region.min - slack, cand.region.max + slack};
         for (std::uint32_t t = 0; t < track.triangles.size(); ++t) {
-            if (track.triangles[t].bounds().overlaps(region)) overlapping.push_back(t);
+            if (grid.box(t).aabb().overlaps(region)) overlapping.push_back(t);
         }
-        if (cand.triangles != overlapping || cand.boxes.size() != cand.triangles.size()) {
+        bool boxes_hold = cand.boxes.size() == cand.triangles.size();
+        for (std::size_t k = 0; boxes_hold && k < cand.triangles.size(); ++k) {
+            const Aabb& b = cand.boxes[k];
+            const Aabb exact = track.triangles[cand.triangles[k]].bounds();
+            boxes_hold = b.min == grid.box(cand.triangles[k]).aabb().min && b.max == grid.box(cand.triangles[k]).aabb().max &&
+                         (b.min.array() <= exact.min.array()).all() && (b.max.array() >= exact.max.array()).all();
+        }
+        if (cand.triangles != overlapping || !boxes_hold) {
             ++failures;
             ADD_FAILURE() << "gather_candidates at " << str(c) << " kept " << cand.triangles.size()
                           << " triangles; " << overlapping.size() << " have bounds overlapping the region";

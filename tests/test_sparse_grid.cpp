@@ -127,7 +127,14 @@ void sparse_grid_matches_brute_force(const Track& track, const UniformGrid& grid
     const Bucketing ref{grid_bounds, 1.0 / grid.cell_size_m(), grid.dims()};
     const std::size_t n = track.triangles.size();
     std::vector<CellRange> bucket(n);
-    for (std::size_t t = 0; t < n; ++t) bucket[t] = ref.range(track.triangles[t].bounds());
+    // The grid buckets each triangle by its box rounded outward to floats.
+    for (std::size_t t = 0; t < n; ++t) {
+        bucket[t] = ref.range(FloatBox::around(track.triangles[t].bounds()).aabb());
+        if (grid.box(static_cast<std::uint32_t>(t)).aabb().min != FloatBox::around(track.triangles[t].bounds()).aabb().min) {
+            ADD_FAILURE() << "triangle " << t << ": the grid's box is not its bounds rounded outward";
+            return;
+        }
+    }
     std::uniform_int_distribution<std::size_t> pick(0, n - 1);
     const Vec3 pad(200, 50, 200);
     std::vector<std::uint32_t> got, want;
@@ -184,6 +191,27 @@ void sparse_grid_matches_brute_force(const Track& track, const UniformGrid& grid
             ADD_FAILURE() << "query " << i << " box " << str(box.min) << str(box.max) << ": grid reported "
                           << got.size() << " (" << (unique ? "unique" : "with duplicates") << ", "
                           << (ordered ? "in order" : "out of order") << "), brute force " << want.size();
+        }
+        // for_each_bucketed reports the same triangles once per cell of the
+        // query's range that holds them (the overlap of the two ranges).
+        std::vector<std::uint32_t> bucketed;
+        grid.for_each_bucketed(box, [&](std::uint32_t t) { bucketed.push_back(t); });
+        std::size_t pairs = 0;
+        for (const std::uint32_t t : want) {
+            std::size_t cells = 1;
+            for (int k = 0; k < 3; ++k) {
+                cells *= static_cast<std::size_t>(std::min(bucket[t].hi[k], q.hi[k]) - std::max(bucket[t].lo[k], q.lo[k]) + 1);
+            }
+            pairs += cells;
+        }
+        std::sort(bucketed.begin(), bucketed.end());
+        const std::size_t reports = bucketed.size();
+        bucketed.erase(std::unique(bucketed.begin(), bucketed.end()), bucketed.end());
+        if (bucketed != want || reports != pairs) {
+            ++failures;
+            ADD_FAILURE() << "query " << i << ": for_each_bucketed reported " << reports << " ("
+                          << bucketed.size() << " triangles), brute force " << want.size() << " in " << pairs
+                          << " cells";
         }
         // any_candidate walks the same sequence and stops at the first match.
         const std::uint32_t mod = 2 + static_cast<std::uint32_t>(i % 5);
@@ -316,12 +344,18 @@ TEST(SparseGrid, TwoLevelsReportEveryOverlappingTriangleOnce) {
         std::sort(got.begin(), got.end());
         const bool unique = std::adjacent_find(got.begin(), got.end()) == got.end();
         const bool covers = std::includes(got.begin(), got.end(), want.begin(), want.end());
+        // for_each_bucketed (the gather's walk): the same triangles, repeats allowed.
+        std::vector<std::uint32_t> bucketed;
+        grid.for_each_bucketed(box, [&](std::uint32_t k) { bucketed.push_back(k); });
+        std::sort(bucketed.begin(), bucketed.end());
+        bucketed.erase(std::unique(bucketed.begin(), bucketed.end()), bucketed.end());
         nonempty += want.empty() ? 0 : 1;
-        if (!unique || !covers) {
+        if (!unique || !covers || bucketed != got) {
             ++failures;
             ADD_FAILURE() << "query " << i << " box " << str(box.min) << str(box.max) << ": grid reported "
                           << got.size() << (unique ? "" : " with duplicates") << ", " << want.size()
-                          << " overlap it" << (covers ? "" : ", not all reported");
+                          << " overlap it" << (covers ? "" : ", not all reported") << "; for_each_bucketed "
+                          << bucketed.size() << " distinct";
         }
     }
     EXPECT_EQ(failures, 0);

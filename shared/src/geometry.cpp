@@ -1,5 +1,6 @@
 #include "jetrace/geometry.hpp"
 
+#include <cmath>
 #include <limits>
 
 namespace jetrace {
@@ -19,6 +20,17 @@ Triangle Triangle::make(const Vec3& a, const Vec3& b, const Vec3& c) {
         t.thin = len2 < 1e-6 * scale * scale;
     }
     return t;
+}
+
+FloatBox FloatBox::around(const Aabb& b) {
+    FloatBox f;
+    for (int i = 0; i < 3; ++i) {
+        f.lo[i] = static_cast<float>(b.min[i]);
+        if (double{f.lo[i]} > b.min[i]) f.lo[i] = std::nextafter(f.lo[i], -std::numeric_limits<float>::infinity());
+        f.hi[i] = static_cast<float>(b.max[i]);
+        if (double{f.hi[i]} < b.max[i]) f.hi[i] = std::nextafter(f.hi[i], std::numeric_limits<float>::infinity());
+    }
+    return f;
 }
 
 Aabb Triangle::bounds() const {
@@ -112,29 +124,47 @@ ClosestPoint closest_on_edges(const Vec3& p, const Triangle& t) {
 
 }  // namespace
 
-bool closest_point_within(const Vec3& p, const Triangle& t, double reach_m, ClosestPoint& out) {
-    if (t.degenerate) {
-        out = closest_on_edges(p, t);
-        return true;
-    }
-    const Vec3 n = t.normal();
+namespace {
+
+// closest_point_within's tests from the plane on; `inward(i)` gives edge i's
+// inward normal (computed when asked, or kept).
+template <class Inward>
+bool closest_from_plane(const Vec3& p, const Triangle& t, const Vec3& n, Inward&& inward, double reach_m,
+                        ClosestPoint& out) {
     const double h = (p - t.a).dot(n);
     if (h > reach_m || h < -reach_m) return false;
     // p's distance inside each edge (Triangle::inward), edge by edge, so that
     // a triangle beyond its first edge costs one test. Each is a
     // well-conditioned dot product, so slivers are classified as exactly as
     // large triangles.
-    const double ab = (p - t.a).dot(t.inward(0, n));
+    const double ab = (p - t.a).dot(inward(0));
     if (ab < -reach_m) return false;
-    const double bc = (p - t.b).dot(t.inward(1, n));
+    const double bc = (p - t.b).dot(inward(1));
     if (bc < -reach_m) return false;
-    const double ca = (p - t.c).dot(t.inward(2, n));
+    const double ca = (p - t.c).dot(inward(2));
     if (ca < -reach_m) return false;
     // The face: the projection onto the plane (the common case, and the only
     // well-conditioned one for a sliver).
     out = ab >= 0.0 && bc >= 0.0 && ca >= 0.0 ? ClosestPoint{p - n * h, TriRegion::face}
                                               : closest_outside_face(p, t);
     return true;
+}
+
+}  // namespace
+
+bool closest_point_within(const Vec3& p, const Triangle& t, double reach_m, ClosestPoint& out) {
+    if (t.degenerate) {
+        out = closest_on_edges(p, t);
+        return true;
+    }
+    const Vec3 n = t.normal();
+    return closest_from_plane(p, t, n, [&](int i) { return t.inward(i, n); }, reach_m, out);
+}
+
+bool closest_point_within(const Vec3& p, const Triangle& t, const TriangleFrame& frame, double reach_m,
+                          ClosestPoint& out) {
+    return closest_from_plane(p, t, frame.normal, [&](int i) -> const Vec3& { return frame.inward[i]; }, reach_m,
+                              out);
 }
 
 ClosestPoint closest_point_on_triangle(const Vec3& p, const Triangle& t) {

@@ -8,27 +8,69 @@
 
 namespace jetrace {
 
+namespace {
+
+// Sorts `v`, made of ascending runs, by merging neighbouring runs pass after
+// pass (`scratch`: the caller's, to keep its capacity).
+void merge_runs(std::vector<std::uint32_t>& v, std::vector<std::uint32_t>& scratch) {
+    std::vector<std::size_t> bounds{0};  // run starts, then the end
+    for (std::size_t i = 1; i < v.size(); ++i) {
+        if (v[i] < v[i - 1]) bounds.push_back(i);
+    }
+    bounds.push_back(v.size());
+    while (bounds.size() > 2) {
+        scratch.resize(v.size());
+        std::vector<std::size_t> merged{0};
+        for (std::size_t r = 0; r + 1 < bounds.size(); r += 2) {
+            const auto at = [&](std::size_t i) { return v.begin() + static_cast<std::ptrdiff_t>(bounds[i]); };
+            const std::size_t last = std::min(r + 2, bounds.size() - 1);
+            std::merge(at(r), at(r + 1), at(r + 1), at(last), scratch.begin() + static_cast<std::ptrdiff_t>(bounds[r]));
+            merged.push_back(bounds[last]);
+        }
+        v.swap(scratch);
+        bounds.swap(merged);
+    }
+}
+
+}  // namespace
+
 void gather_candidates(const TrackQuery& q, const Vec3& center, double radius_m, Candidates& out) {
     out.region = Aabb::around(center, radius_m);
     out.region.min += out.lookahead.cwiseMin(Vec3::Zero());
     out.region.max += out.lookahead.cwiseMax(Vec3::Zero());
     out.triangles.clear();
     out.boxes.clear();
+    out.runs.clear();
+    out.groups.clear();
     out.all = q.broadphase == Broadphase::brute_force;
     if (out.all) return;
     const Vec3 slack(kBoxSlack_m, kBoxSlack_m, kBoxSlack_m);
     const Aabb query{out.region.min - slack, out.region.max + slack};
-    // The triangles whose own bounds reach the query (the grid reports
-    // every triangle bucketed in the cells it touches), filtered before the
-    // sort, which then orders only those kept.
-    q.grid.for_each_candidate(query, [&](std::uint32_t t) {
-        if (q.track.triangles[t].bounds().overlaps(query)) out.triangles.push_back(t);
+    // The triangles whose boxes (the grid's, which contain their bounds)
+    // reach the query: the grid reports every triangle bucketed in the
+    // cells it touches (once per cell), and its box, not the triangle, is
+    // read to filter them (24 bytes a triangle, in triangle order, against
+    // the triangle's 80).
+    // Written without a branch on the test (about a third are kept, in no
+    // predictable pattern): every one is stored, and the end moves past
+    // it only if kept.
+    std::vector<std::uint32_t>& kept = out.triangles;
+    std::size_t n = 0;
+    q.grid.for_each_bucketed(query, [&](std::uint32_t t) {
+        if (n == kept.size()) kept.resize(std::max<std::size_t>(64, 2 * kept.size()));
+        kept[n] = t;
+        n += q.grid.box(t).aabb().overlaps(query) ? 1 : 0;
     });
+    kept.resize(n);
     // Canonical order: ascending triangle index, the brute-force order. The
     // result of a step then does not depend on which cells were visited or
-    // on how large the gathered region was, only on the geometry.
-    std::sort(out.triangles.begin(), out.triangles.end());
-    for (const std::uint32_t t : out.triangles) out.boxes.push_back(q.track.triangles[t].bounds());
+    // on how large the gathered region was, only on the geometry. Each
+    // cell's triangles come in ascending order, so the kept list is a few
+    // ascending runs, merged; a triangle met in two cells is kept once.
+    merge_runs(kept, out.merge_scratch);
+    kept.erase(std::unique(kept.begin(), kept.end()), kept.end());
+    for (const std::uint32_t t : out.triangles) out.boxes.push_back(q.grid.box(t).aabb());
+    out.finish_gather();
 }
 
 GatherReach gather_reach(const PhysicsSettings& s, GatherFor why, double motion_m) {
@@ -89,23 +131,37 @@ void for_each_touching(const Track& track, const Candidates& cand, const Vec3& p
     }
 }
 
+// closest_point_within for the k-th candidate `t`, with its kept frame.
+bool closest_within(const Candidates& cand, std::size_t k, const Triangle& t, const Vec3& p, double reach_m,
+                    ClosestPoint& out) {
+    if (cand.all || t.degenerate) return closest_point_within(p, t, reach_m, out);
+    return closest_point_within(p, t, cand.frame(k, t), reach_m, out);
+}
+
+// The k-th candidate's unit normal (Triangle::normal(), kept).
+Vec3 unit_normal(const Candidates& cand, std::size_t k, const Triangle& t) {
+    if (cand.all || t.degenerate) return t.normal();
+    return cand.frame(k, t).normal;
+}
+
 // Direction from the surface point `q` to the centre `p`. Inside the face
 // region that is the face normal (on the centre's side), exactly: a car at
 // rest on a flat floor then feels an exactly vertical normal, not one tilted
 // by the rounding of the closest point. If the centre lies on the triangle,
 // the face normal on the side the car came from (`came_from`; nullptr: p +
 // the normal, the normal's own side).
-Vec3 contact_normal(const Triangle& t, const ClosestPoint& cp, const Vec3& p, double dist, const Vec3* came_from) {
+Vec3 contact_normal(const Candidates& cand, std::size_t k, const Triangle& t, const ClosestPoint& cp, const Vec3& p,
+                    double dist, const Vec3* came_from) {
     const Vec3& q = cp.point;
     if (dist > 1e-9) {
         if (cp.region == TriRegion::face && !t.degenerate) {
-            const Vec3 n = t.normal();
+            const Vec3 n = unit_normal(cand, k, t);
             return (p - q).dot(n) < 0.0 ? Vec3(-n) : n;
         }
         return (p - q) / dist;
     }
     if (t.degenerate) return kWorldUp;
-    const Vec3 n = t.normal();
+    const Vec3 n = unit_normal(cand, k, t);
     const Vec3 from = came_from != nullptr ? *came_from : Vec3(p + n);
     return (from - q).dot(n) < 0.0 ? Vec3(-n) : n;
 }
@@ -162,11 +218,11 @@ void find_contacts(const TrackQuery& q, const Candidates& cand, const Vec3& cent
     out.clear();
     const double reach = q.physics.car_radius_m + q.physics.contact_skin_m;
     const double reach2 = reach * reach;
-    for_each_touching(q.track, cand, center, reach, [&](const Triangle& t, std::size_t) {
+    for_each_touching(q.track, cand, center, reach, [&](const Triangle& t, std::size_t k) {
         ClosestPoint cp;
-        if (!closest_point_within(center, t, reach, cp)) return true;
+        if (!closest_within(cand, k, t, center, reach, cp)) return true;
         const double d2 = (center - cp.point).squaredNorm();
-        if (d2 < reach2) out.add(contact_normal(t, cp, center, std::sqrt(d2), nullptr));
+        if (d2 < reach2) out.add(contact_normal(cand, k, t, cp, center, std::sqrt(d2), nullptr));
         return true;
     });
 }
@@ -208,7 +264,7 @@ int push_pass(const TrackQuery& q, const SphereMotion& car, Candidates& cand, bo
         const std::uint32_t index = cand.all ? static_cast<std::uint32_t>(at) : cand.triangles[at];
         const Triangle& t = track.triangles[index];
         ClosestPoint cp;
-        if (!closest_point_within(position, t, reach, cp)) continue;
+        if (!closest_within(cand, at, t, position, reach, cp)) continue;
         const double d2 = (position - cp.point).squaredNorm();
         // Touching is decided exactly as a pass at reach r decides it (its
         // cheap rejections included, which rounding can tip at a distance of
@@ -217,16 +273,16 @@ int push_pass(const TrackQuery& q, const SphereMotion& car, Candidates& cand, bo
         bool touching = d2 <= r2;
         if (touching && reach != r) {
             ClosestPoint same_point;
-            touching = cand.may_touch(at, position, r) && closest_point_within(position, t, r, same_point);
+            touching = cand.may_touch(at, position, r) && closest_within(cand, at, t, position, r, same_point);
         }
         if (!touching) {
             if (collect && pushes == 0 && d2 < query2) {
-                contacts.add(contact_normal(t, cp, position, std::sqrt(d2), nullptr));
+                contacts.add(contact_normal(cand, at, t, cp, position, std::sqrt(d2), nullptr));
             }
             continue;
         }
         reach = r;
-        const Vec3 n = contact_normal(t, cp, position, std::sqrt(d2), &car.from);
+        const Vec3 n = contact_normal(cand, at, t, cp, position, std::sqrt(d2), &car.from);
         position = cp.point + n * target;
         const double vn = velocity.dot(n);
         if (vn < 0.0) velocity -= n * vn;  // inelastic: no velocity into the surface

@@ -166,16 +166,18 @@ UniformGrid::UniformGrid(const std::vector<Triangle>& triangles, const Aabb& bou
     std::vector<char> large(n, 0);
     std::size_t large_count = 0;
     double pairs = 0.0;
+    boxes_.resize(n);
+    for (std::size_t t = 0; t < n; ++t) boxes_[t] = FloatBox::around(triangles[t].bounds());
     for (;;) {
         set_cell_size(size);
         pairs = 0.0;
         large_count = 0;
         for (std::size_t t = 0; t < n; ++t) {
-            const Aabb b = triangles[t].bounds();
+            const FloatBox& b = boxes_[t];
             CellRange& r = ranges[t];
             for (int i = 0; i < 3; ++i) {
-                r.lo[i] = coord(b.min[i], i);
-                r.hi[i] = coord(b.max[i], i);
+                r.lo[i] = coord(b.lo[i], i);
+                r.hi[i] = coord(b.hi[i], i);
             }
             const double cells = range_cells(r);
             large[t] = with_coarse && cells > kLargeCells ? 1 : 0;
@@ -196,8 +198,6 @@ UniformGrid::UniformGrid(const std::vector<Triangle>& triangles, const Aabb& bou
         }
     }
 
-    tri_lo_.resize(n);
-    for (std::size_t t = 0; t < n; ++t) tri_lo_[t] = CellLo{ranges[t].lo[0], ranges[t].lo[1], ranges[t].lo[2]};
     SortedCells sorted = sort_cells(ranges, dims_, static_cast<std::size_t>(pairs));
     std::vector<CellRange>().swap(ranges);
     items_ = std::move(sorted.items);
@@ -245,7 +245,7 @@ void UniformGrid::build_table() {
 
 std::size_t UniformGrid::memory_bytes() const {
     return slots_.size() * sizeof(std::uint32_t) + cells_.size() * sizeof(Cell) +
-           items_.size() * sizeof(std::uint32_t) + tri_lo_.size() * sizeof(CellLo) +
+           items_.size() * sizeof(std::uint32_t) + boxes_.size() * sizeof(FloatBox) +
            coarse_ids_.size() * sizeof(std::uint32_t) + (coarse_.empty() ? 0 : coarse_[0].memory_bytes());
 }
 

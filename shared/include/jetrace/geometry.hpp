@@ -25,6 +25,23 @@ struct Aabb {
     }
 };
 
+/// A box in single precision, rounded outward: it contains the double box
+/// it was made from (24 bytes against Aabb's 48). What the grid keeps of
+/// each triangle and the gather filters by.
+struct FloatBox {
+    float lo[3] = {0, 0, 0};
+    float hi[3] = {0, 0, 0};
+
+    /// The smallest float box containing `b` (each bound rounded to the
+    /// nearest float, then stepped one float outward if that rounding went
+    /// inward; NaN stays NaN).
+    static FloatBox around(const Aabb& b);
+    /// The same box in doubles (exact: every float is a double).
+    Aabb aabb() const {
+        return {Vec3(double{lo[0]}, double{lo[1]}, double{lo[2]}), Vec3(double{hi[0]}, double{hi[1]}, double{hi[2]})};
+    }
+};
+
 /// A track triangle with the data the resolver needs precomputed.
 struct Triangle {
     Vec3 a{0, 0, 0}, b{0, 0, 0}, c{0, 0, 0};
@@ -62,6 +79,21 @@ struct Triangle {
     }
 };
 
+/// A triangle's unit normal and the inward unit normals of its edges, as
+/// Triangle::normal() and Triangle::inward() compute them (the same bits):
+/// kept for a triangle that is tested again and again (a car's candidates).
+struct TriangleFrame {
+    Vec3 normal{0, 0, 0};
+    Vec3 inward[3] = {Vec3(0, 0, 0), Vec3(0, 0, 0), Vec3(0, 0, 0)};
+    /// Only for a triangle that is not degenerate.
+    static TriangleFrame of(const Triangle& t) {
+        TriangleFrame f;
+        f.normal = t.normal();
+        for (int i = 0; i < 3; ++i) f.inward[i] = t.inward(i, f.normal);
+        return f;
+    }
+};
+
 /// Which feature of the triangle the closest point lies on.
 enum class TriRegion : std::uint8_t { vertex_a, vertex_b, vertex_c, edge_ab, edge_bc, edge_ca, face };
 
@@ -80,6 +112,12 @@ ClosestPoint closest_point_on_triangle(const Vec3& p, const Triangle& t);
 /// its plane, or outside one of its edges, by more than reach_m): then false
 /// and `out` is untouched. The cheap test for a triangle near a car.
 bool closest_point_within(const Vec3& p, const Triangle& t, double reach_m, ClosestPoint& out);
+
+/// The same with `t`'s frame (TriangleFrame::of(t), `t` not degenerate)
+/// given: the same arithmetic on the same values, so the same result, with
+/// no square root or division on the way to it.
+bool closest_point_within(const Vec3& p, const Triangle& t, const TriangleFrame& frame, double reach_m,
+                          ClosestPoint& out);
 
 /// Closest point to p on segment [a, b].
 Vec3 closest_point_on_segment(const Vec3& p, const Vec3& a, const Vec3& b);

@@ -1,6 +1,7 @@
 // Sphere against track: candidate gathering and the seed's push-out.
 #pragma once
 
+#include "jetrace/candidates.hpp"
 #include "jetrace/contacts.hpp"
 #include "jetrace/settings.hpp"
 #include "jetrace/track.hpp"
@@ -30,84 +31,6 @@ struct SphereMotion {
     const Vec3& from;
     Vec3& position;
     Vec3& velocity;
-};
-
-/// Slack added to every bounding-box test of a candidate (unit: m), so that
-/// rounding can never make a box test reject a triangle the exact distance
-/// test would accept. Far below the position quantum (1/1024 m).
-inline constexpr double kBoxSlack_m = 1e-6;
-
-/// The triangles near a car: gathered, then reused by the following steps
-/// and every push-out pass while the car stays inside the gathered region.
-/// Each comes with its bounding box, so the narrow phase skips a far one
-/// by its distance to the box. The vectors are scratch owned by the caller (no
-/// allocation once warm).
-struct Candidates {
-    /// Ascending triangle indices whose bounds overlap `region`.
-    std::vector<std::uint32_t> triangles;
-    /// Bounds of each, in the same order.
-    std::vector<Aabb> boxes;
-    /// The box they were gathered for.
-    Aabb region;
-    /// Displacement the car will make over the next few steps at its
-    /// current velocity (unit: m; set each step): a gather also covers the
-    /// region ahead, so one gather serves those steps.
-    Vec3 lookahead{0, 0, 0};
-    bool all = false;  // brute force: every triangle
-
-    /// True if a sphere of `radius_m` at `p` is inside the gathered region.
-    bool covers(const Vec3& p, double radius_m) const {
-        if (all) return true;
-        return p.x() - radius_m >= region.min.x() && p.x() + radius_m <= region.max.x() &&
-               p.y() - radius_m >= region.min.y() && p.y() + radius_m <= region.max.y() &&
-               p.z() - radius_m >= region.min.z() && p.z() + radius_m <= region.max.z();
-    }
-    /// False if the k-th candidate's box is farther than `reach_m` from `p`
-    /// (the distance from `p` to the box, a lower bound of the distance to
-    /// the triangle inside it): the triangle cannot come within `reach_m`
-    /// of `p`. A car over dense ground passes the per-axis test
-    /// (may_reach_along_axes) for every triangle under its sphere's square
-    /// shadow; this one only for those under the part within reach.
-    bool may_touch(std::size_t k, const Vec3& p, double reach_m) const {
-        if (all) return true;
-        const Aabb& b = boxes[k];
-        const double h = reach_m + kBoxSlack_m;
-        // A NaN in p makes the sum NaN and the test false, as on every axis
-        // of the per-axis test.
-        const double dx = std::max(std::max(b.min.x() - p.x(), p.x() - b.max.x()), 0.0);
-        const double dy = std::max(std::max(b.min.y() - p.y(), p.y() - b.max.y()), 0.0);
-        const double dz = std::max(std::max(b.min.z() - p.z(), p.z() - b.max.z()), 0.0);
-        return dx * dx + dy * dy + dz * dz <= h * h;
-    }
-    /// The first candidate from the k-th on that may_touch(p, reach_m)
-    /// accepts (the same test, in a tight loop over the boxes alone), or the
-    /// candidate count if none; k itself under brute force.
-    std::size_t next_touching(std::size_t k, const Vec3& p, double reach_m) const {
-        if (all) return k;
-        const double h = reach_m + kBoxSlack_m;
-        const double h2 = h * h;
-        const double px = p.x(), py = p.y(), pz = p.z();
-        const std::size_t n = boxes.size();
-        const Aabb* box = boxes.data();
-        for (; k < n; ++k) {
-            const Aabb& b = box[k];
-            const double dx = std::max(std::max(b.min.x() - px, px - b.max.x()), 0.0);
-            const double dy = std::max(std::max(b.min.y() - py, py - b.max.y()), 0.0);
-            const double dz = std::max(std::max(b.min.z() - pz, pz - b.max.z()), 0.0);
-            if (dx * dx + dy * dy + dz * dz <= h2) return k;
-        }
-        return n;
-    }
-    /// False if the k-th candidate's box is farther than `reach_m` from `p`
-    /// along an axis: it cannot come within `reach_m` of `p`. The sweep's
-    /// test (its hits are not decided by a closest distance alone).
-    bool may_reach_along_axes(std::size_t k, const Vec3& p, double reach_m) const {
-        if (all) return true;
-        const Aabb& b = boxes[k];
-        const double h = reach_m + kBoxSlack_m;
-        return p.x() + h >= b.min.x() && p.x() - h <= b.max.x() && p.y() + h >= b.min.y() &&
-               p.y() - h <= b.max.y() && p.z() + h >= b.min.z() && p.z() - h <= b.max.z();
-    }
 };
 
 /// Extra reach added around a car when its candidates are gathered, so

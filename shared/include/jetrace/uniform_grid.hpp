@@ -23,8 +23,14 @@
 // with a fixed hash, so the layout is a pure function of the geometry
 // (nothing depends on allocation addresses or insertion history). Memory:
 // 4 bytes per triangle-cell pair, at most 28 bytes per occupied cell and
-// 12 bytes per triangle (see memory_bytes), independent of the bounding
+// 24 bytes per triangle (see memory_bytes), independent of the bounding
 // volume.
+//
+// Each triangle is bucketed by its box in floats, rounded outward
+// (FloatBox, 24 bytes; box()): the grid keeps it, and the owner cell is
+// computed from it. A gather reads these boxes, 24 bytes a triangle laid
+// out in triangle order, and not the triangles (80 bytes each, far outside
+// the caches on a track of millions).
 //
 // Two levels: a triangle whose box covers more than kLargeCells cells is
 // not bucketed in these cells but in a second, coarse grid of the same kind
@@ -62,6 +68,7 @@
 
 #include "jetrace/geometry.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -139,9 +146,22 @@ public:
     /// f may return bool: false stops the walk (any_candidate()).
     template <class F>
     void for_each_candidate(const Aabb& box, F&& f) const {
-        if (!for_each_fine(box, f) || coarse_.empty()) return;
+        if (!for_each_fine<true>(box, f) || coarse_.empty()) return;
         auto large = [&](std::uint32_t i) { return report(f, coarse_ids_[i]); };
-        coarse_[0].for_each_fine(box, large);
+        coarse_[0].for_each_fine<true>(box, large);
+    }
+
+    /// Calls f(triangle_index) for every triangle bucketed in a cell of
+    /// `box`'s cell range, in the same order as for_each_candidate, but
+    /// once per such cell (a triangle in two of them is reported twice):
+    /// the walk without the owner-cell test, for a caller that sorts what
+    /// it keeps and drops repeats itself (the gather).
+    template <class F>
+    void for_each_bucketed(const Aabb& box, F&& f) const {
+        for_each_fine<false>(box, f);
+        if (coarse_.empty()) return;
+        auto large = [&](std::uint32_t i) { f(coarse_ids_[i]); };
+        coarse_[0].for_each_fine<false>(box, large);
     }
 
     /// True if pred(triangle_index) holds for a candidate of `box` (the walk
@@ -152,6 +172,10 @@ public:
         for_each_candidate(box, [&](std::uint32_t t) { return !(found = pred(t)); });
         return found;
     }
+
+    /// The box triangle `t` is bucketed by: its bounds rounded outward to
+    /// floats (it contains Triangle::bounds()).
+    const FloatBox& box(std::uint32_t t) const { return boxes_[t]; }
 
     double cell_size_m() const { return cell_; }
     /// Triangles kept in the coarse level (see kLargeCells).
@@ -172,7 +196,7 @@ private:
 
     // This level's walk (for_each_candidate without the coarse level).
     // False if f asked to stop.
-    template <class F>
+    template <bool kOnce, class F>
     bool for_each_fine(const Aabb& box, F& f) const {
         CellRange q;
         if (!cell_range(box, q)) return true;
@@ -185,7 +209,7 @@ private:
                 const auto y = static_cast<std::int32_t>((key / dx) % dy);
                 const auto z = static_cast<std::int32_t>(key / dx / dy);
                 if (x < q.lo[0] || x > q.hi[0] || y < q.lo[1] || y > q.hi[1] || z < q.lo[2] || z > q.hi[2]) continue;
-                if (!visit_cell(c, q, x, y, z, f)) return false;
+                if (!visit_cell<kOnce>(c, q, x, y, z, f)) return false;
             }
             return true;
         }
@@ -193,7 +217,7 @@ private:
             for (std::int32_t y = q.lo[1]; y <= q.hi[1]; ++y) {
                 const std::uint64_t row = (u64(z) * u64(dims_[1]) + u64(y)) * u64(dims_[0]);
                 for (std::int32_t x = q.lo[0]; x <= q.hi[0]; ++x) {
-                    if (!visit_cell(find(row + u64(x)), q, x, y, z, f)) return false;
+                    if (!visit_cell<kOnce>(find(row + u64(x)), q, x, y, z, f)) return false;
                 }
             }
         }
@@ -209,9 +233,6 @@ private:
         std::uint64_t key() const { return (std::uint64_t{key_hi} << 32) | key_lo; }
     };
     static constexpr std::uint64_t kNoKey = ~std::uint64_t{0};  // above any dense index (< 2^63)
-    struct CellLo {
-        std::int32_t x, y, z;
-    };
 
     static std::uint64_t u64(std::int32_t v) { return static_cast<std::uint64_t>(v); }
     // Fixed 64-bit mix (xor-shift, multiply: the murmur3 finaliser's first
@@ -230,18 +251,20 @@ private:
     }
     // Reports the triangles of cell (x, y, z) whose owner cell, for query
     // range q, is this one. False if f asked to stop.
-    template <class F>
+    template <bool kOnce, class F>
     bool visit_cell(std::uint32_t c, const CellRange& q, std::int32_t x, std::int32_t y, std::int32_t z,
                     F& f) const {
         const std::uint32_t end = cells_[c + 1].begin;
         for (std::uint32_t k = cells_[c].begin; k < end; ++k) {
             const std::uint32_t tri = items_[k];
-            const CellLo& r = tri_lo_[tri];
-            // Owner cell: lowest cell of the two ranges' overlap.
-            const std::int32_t ox = r.x > q.lo[0] ? r.x : q.lo[0];
-            const std::int32_t oy = r.y > q.lo[1] ? r.y : q.lo[1];
-            const std::int32_t oz = r.z > q.lo[2] ? r.z : q.lo[2];
-            if (ox != x || oy != y || oz != z) continue;
+            if constexpr (kOnce) {
+                // Owner cell: lowest cell of the two ranges' overlap.
+                const FloatBox& b = boxes_[tri];
+                if (std::max(coord(b.lo[0], 0), q.lo[0]) != x || std::max(coord(b.lo[1], 1), q.lo[1]) != y ||
+                    std::max(coord(b.lo[2], 2), q.lo[2]) != z) {
+                    continue;
+                }
+            }
             if (!report(f, tri)) return false;
         }
         return true;
@@ -256,8 +279,11 @@ private:
             return true;
         }
     }
+    // floor((v - origin) / cell) clamped to the grid: for c >= 0 floor(c) >= k
+    // exactly when c >= k (k an integer), and truncation is floor, so no
+    // call to floor (a library call without SSE4.1) is needed.
     std::int32_t coord(double v, int axis) const {
-        const double c = std::floor((v - origin_[axis]) * inv_cell_);
+        const double c = (v - origin_[axis]) * inv_cell_;
         if (!(c >= 0.0)) return 0;  // also catches NaN
         if (c >= static_cast<double>(dims_[axis] - 1)) return dims_[axis] - 1;
         return static_cast<std::int32_t>(c);
@@ -276,7 +302,7 @@ private:
     std::vector<std::uint32_t> slots_;    // hash table: index into cells_, or empty_
     std::vector<Cell> cells_;             // occupied cells by ascending key, the empty cell, an end marker
     std::vector<std::uint32_t> items_;    // triangle indices, ascending per cell
-    std::vector<CellLo> tri_lo_;          // each triangle's lowest bucket cell
+    std::vector<FloatBox> boxes_;         // each triangle's box, rounded outward to floats
     std::vector<UniformGrid> coarse_;     // none or one: the level of the large triangles
     std::vector<std::uint32_t> coarse_ids_;  // coarse-level index -> triangle index
 };

@@ -1,0 +1,144 @@
+// A car's candidate triangles: what the resolver scans, pass after pass.
+#pragma once
+
+#include "jetrace/geometry.hpp"
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace jetrace {
+
+/// Slack added to every bounding-box test of a candidate (unit: m), so that
+/// rounding can never make a box test reject a triangle the exact distance
+/// test would accept. Far below the position quantum (1/1024 m).
+inline constexpr double kBoxSlack_m = 1e-6;
+
+/// Squared distance from `p` to box `b` (0 inside), each axis's gap
+/// rounded as computed; a NaN in `p` makes it NaN (and every `<=` false).
+/// Monotonic in the box: a box containing `b` is never farther.
+inline double box_distance2(const Aabb& b, double px, double py, double pz) {
+    const double dx = std::max(std::max(b.min.x() - px, px - b.max.x()), 0.0);
+    const double dy = std::max(std::max(b.min.y() - py, py - b.max.y()), 0.0);
+    const double dz = std::max(std::max(b.min.z() - pz, pz - b.max.z()), 0.0);
+    return dx * dx + dy * dy + dz * dz;
+}
+
+/// The triangles near a car: gathered, then reused by the following steps
+/// and every push-out pass while the car stays inside the gathered region.
+/// Each comes with its bounding box, so the narrow phase skips a far one
+/// by its distance to the box, and each run of kRunLength consecutive
+/// candidates with the box around theirs, so a scan skips a far run in
+/// one test. The vectors are scratch owned by the caller (no allocation
+/// once warm).
+struct Candidates {
+    /// Candidates per run (see `runs`): a power of two.
+    static constexpr std::size_t kRunShift = 3;
+    static constexpr std::size_t kRunLength = std::size_t{1} << kRunShift;
+    /// Candidates per group (see `groups`): a power of two, a multiple of kRunLength.
+    static constexpr std::size_t kGroupShift = 6;
+
+    /// Ascending triangle indices whose boxes (the grid's, each containing
+    /// the triangle's bounds: UniformGrid::box) overlap `region`.
+    std::vector<std::uint32_t> triangles;
+    /// Those boxes, in the same order.
+    std::vector<Aabb> boxes;
+    /// The box around boxes[j * kRunLength] to boxes[(j + 1) * kRunLength - 1]
+    /// (the last run may be shorter). Meshes list their triangles with
+    /// neighbours near each other (strips, patches, rows), so a run's box is
+    /// small and a car over dense ground is within reach of few runs.
+    std::vector<Aabb> runs;
+    /// The same over runs of 2^kGroupShift candidates, tested first.
+    std::vector<Aabb> groups;
+    /// The box they were gathered for.
+    Aabb region;
+    /// Displacement the car will make over the next few steps at its
+    /// current velocity (unit: m; set each step): a gather also covers the
+    /// region ahead, so one gather serves those steps.
+    Vec3 lookahead{0, 0, 0};
+    bool all = false;  // brute force: every triangle
+    /// The gather's scratch (kept to keep its capacity).
+    std::vector<std::uint32_t> merge_scratch;
+
+    /// Each candidate's TriangleFrame once computed (framed[k] != 0): the
+    /// triangles under a car are tested in step after step, and the frame
+    /// is what costs (four square roots and twelve divisions). A cache of a
+    /// pure function of the triangle, so `mutable`.
+    mutable std::vector<TriangleFrame> frames;
+    mutable std::vector<std::uint8_t> framed;
+
+    /// The k-th candidate's frame (`t` is that triangle, not degenerate).
+    const TriangleFrame& frame(std::size_t k, const Triangle& t) const {
+        if (framed[k] == 0) {
+            frames[k] = TriangleFrame::of(t);
+            framed[k] = 1;
+        }
+        return frames[k];
+    }
+
+    /// Fills `runs` and `groups` from `boxes` and forgets the frames: the
+    /// end of a gather.
+    void finish_gather();
+
+    /// True if a sphere of `radius_m` at `p` is inside the gathered region.
+    bool covers(const Vec3& p, double radius_m) const {
+        if (all) return true;
+        return p.x() - radius_m >= region.min.x() && p.x() + radius_m <= region.max.x() &&
+               p.y() - radius_m >= region.min.y() && p.y() + radius_m <= region.max.y() &&
+               p.z() - radius_m >= region.min.z() && p.z() + radius_m <= region.max.z();
+    }
+    /// False if the k-th candidate's box is farther than `reach_m` from `p`
+    /// (the distance from `p` to the box, a lower bound of the distance to
+    /// the triangle inside it): the triangle cannot come within `reach_m`
+    /// of `p`. A car over dense ground passes the per-axis test
+    /// (may_reach_along_axes) for every triangle under its sphere's square
+    /// shadow; this one only for those under the part within reach.
+    bool may_touch(std::size_t k, const Vec3& p, double reach_m) const {
+        if (all) return true;
+        const double h = reach_m + kBoxSlack_m;
+        return box_distance2(boxes[k], p.x(), p.y(), p.z()) <= h * h;
+    }
+    /// The first candidate from the k-th on that may_touch(p, reach_m)
+    /// accepts, or the candidate count if none; k itself under brute force.
+    /// A run whose box is beyond reach is skipped whole: no box inside it
+    /// is nearer (box_distance2 is monotonic), so the answer is exactly the
+    /// one-by-one scan's.
+    std::size_t next_touching(std::size_t k, const Vec3& p, double reach_m) const {
+        if (all) return k;
+        const double h = reach_m + kBoxSlack_m;
+        const double h2 = h * h;
+        const double px = p.x(), py = p.y(), pz = p.z();
+        const std::size_t n = boxes.size();
+        while (k < n) {
+            const std::size_t group = k >> kGroupShift;
+            const std::size_t group_end = std::min(n, (group + 1) << kGroupShift);
+            if (box_distance2(groups[group], px, py, pz) <= h2) {
+                while (k < group_end) {
+                    const std::size_t run = k >> kRunShift;
+                    const std::size_t end = std::min(n, (run + 1) << kRunShift);
+                    if (box_distance2(runs[run], px, py, pz) <= h2) {
+                        for (; k < end; ++k) {
+                            if (box_distance2(boxes[k], px, py, pz) <= h2) return k;
+                        }
+                    }
+                    k = end;
+                }
+            }
+            k = group_end;
+        }
+        return n;
+    }
+    /// False if the k-th candidate's box is farther than `reach_m` from `p`
+    /// along an axis: it cannot come within `reach_m` of `p`. The sweep's
+    /// test (its hits are not decided by a closest distance alone).
+    bool may_reach_along_axes(std::size_t k, const Vec3& p, double reach_m) const {
+        if (all) return true;
+        const Aabb& b = boxes[k];
+        const double h = reach_m + kBoxSlack_m;
+        return p.x() + h >= b.min.x() && p.x() - h <= b.max.x() && p.y() + h >= b.min.y() &&
+               p.y() - h <= b.max.y() && p.z() + h >= b.min.z() && p.z() - h <= b.max.z();
+    }
+};
+
+}  // namespace jetrace

@@ -1,0 +1,155 @@
+// What makes a car's candidates cheap to scan must not change what a scan
+// finds: the run and group boxes against the one-by-one box test, the
+// float boxes the grid keeps against the exact bounds, and a kept
+// TriangleFrame against computing it each time (bit for bit).
+//
+// Random tests draw from std::mt19937_64. The seed is fixed by default; set
+// the environment variable JETRACE_TEST_SEED (decimal or 0x-hex) to run with
+// another one. Every random test prints the seed it used on failure
+// (SCOPED_TRACE) and records it as the test property "seed", so a failure
+// can be replayed with
+//   JETRACE_TEST_SEED=<seed> ./test_candidates --gtest_filter=<test>
+#include "jetrace/geometry.hpp"
+#include "jetrace/candidates.hpp"
+#include "jetrace/resolver.hpp"
+
+#include "support/random_geometry.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstddef>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <vector>
+
+using namespace jetrace;
+using namespace jetrace::test;
+
+namespace {
+
+// `n` boxes along a winding strip (neighbours near each other, as a mesh
+// lists them), every few a far one, so that runs are tight but not all.
+Candidates strip_of_boxes(std::mt19937_64& rng, std::size_t n) {
+    Candidates c;
+    Vec3 at = random_in_box(rng, Vec3(-50, -5, -50), Vec3(50, 5, 50));
+    for (std::size_t k = 0; k < n; ++k) {
+        at += Vec3(uniform(rng, -1.5, 1.5), uniform(rng, -0.3, 0.3), uniform(rng, -1.5, 1.5));
+        const Vec3 centre = k % 13 == 7 ? random_in_box(rng, Vec3(-80, -20, -80), Vec3(80, 20, 80)) : at;
+        const Vec3 half(uniform(rng, 0, 1.5), uniform(rng, 0, 0.5), uniform(rng, 0, 1.5));
+        c.triangles.push_back(static_cast<std::uint32_t>(k));
+        c.boxes.push_back(Aabb{centre - half, centre + half});
+    }
+    c.finish_gather();
+    return c;
+}
+
+// Every candidate from k on that may_touch accepts, one by one.
+std::vector<std::size_t> one_by_one(const Candidates& c, const Vec3& p, double reach) {
+    std::vector<std::size_t> out;
+    for (std::size_t k = 0; k < c.boxes.size(); ++k) {
+        if (c.may_touch(k, p, reach)) out.push_back(k);
+    }
+    return out;
+}
+
+std::vector<std::size_t> by_runs(const Candidates& c, const Vec3& p, double reach) {
+    std::vector<std::size_t> out;
+    for (std::size_t k = 0; (k = c.next_touching(k, p, reach)) < c.boxes.size(); ++k) out.push_back(k);
+    return out;
+}
+
+}  // namespace
+
+TEST(Candidates, RunsFindExactlyWhatTheOneByOneTestFinds) {
+    JETRACE_SEEDED_RNG(rng);
+    int failures = 0, found = 0;
+    // Lengths around the run (8) and group (64) sizes, and longer.
+    for (const std::size_t n : {0u, 1u, 7u, 8u, 9u, 63u, 64u, 65u, 130u, 517u}) {
+        const Candidates c = strip_of_boxes(rng, n);
+        ASSERT_EQ(c.runs.size(), (n + Candidates::kRunLength - 1) / Candidates::kRunLength);
+        for (int q = 0; q < 400 && failures < 10; ++q) {
+            Vec3 p = c.boxes.empty() ? Vec3(0, 0, 0) : c.boxes[static_cast<std::size_t>(q) % n].min;
+            p += random_unit(rng) * uniform(rng, 0, 6);
+            if (q % 97 == 0) p.y() = std::numeric_limits<double>::quiet_NaN();
+            const double reach = q % 5 == 0 ? uniform(rng, 0, 0.01) : uniform(rng, 0.5, 4);
+            const std::vector<std::size_t> want = one_by_one(c, p, reach);
+            found += want.empty() ? 0 : 1;
+            if (by_runs(c, p, reach) != want) {
+                ++failures;
+                ADD_FAILURE() << n << " candidates, query " << q << " at " << str(p) << " reach " << reach
+                              << ": next_touching differs from may_touch";
+            }
+        }
+    }
+    EXPECT_EQ(failures, 0);
+    EXPECT_GT(found, 1000) << "queries should meet boxes";
+}
+
+TEST(Candidates, RunBoxesHoldTheirBoxes) {
+    JETRACE_SEEDED_RNG(rng);
+    const Candidates c = strip_of_boxes(rng, 300);
+    for (std::size_t k = 0; k < c.boxes.size(); ++k) {
+        const Aabb& run = c.runs[k / Candidates::kRunLength];
+        const Aabb& group = c.groups[k >> Candidates::kGroupShift];
+        for (const Aabb* outer : {&run, &group}) {
+            EXPECT_TRUE((outer->min.array() <= c.boxes[k].min.array()).all() &&
+                        (outer->max.array() >= c.boxes[k].max.array()).all())
+                << "candidate " << k;
+        }
+    }
+}
+
+TEST(FloatBox, AroundIsTheSmallestFloatBoxHoldingTheBox) {
+    JETRACE_SEEDED_RNG(rng);
+    const float inf = std::numeric_limits<float>::infinity();
+    for (int i = 0; i < 20000; ++i) {
+        const double scale = std::exp(uniform(rng, std::log(1e-3), std::log(2e6)));
+        Vec3 lo = random_in_box(rng, Vec3(-1, -1, -1), Vec3(1, 1, 1)) * scale;
+        if (i % 10 == 0) lo = lo.cast<float>().cast<double>();  // already floats
+        const Vec3 hi = lo + Vec3(uniform(rng, 0, 3), 0, uniform(rng, 0, 1e-9));
+        const FloatBox f = FloatBox::around(Aabb{lo, hi});
+        const Aabb back = f.aabb();
+        for (int k = 0; k < 3; ++k) {
+            ASSERT_LE(back.min[k], lo[k]) << i;
+            ASSERT_GE(back.max[k], hi[k]) << i;
+            // One float inward would no longer hold it.
+            ASSERT_GT(double{std::nextafter(f.lo[k], inf)}, lo[k]) << i;
+            ASSERT_LT(double{std::nextafter(f.hi[k], -inf)}, hi[k]) << i;
+        }
+    }
+    // Beyond the float range: the largest float, or infinity.
+    const FloatBox huge = FloatBox::around(Aabb{Vec3(1e39, -1e39, 0), Vec3(1e39, -1e39, 0)});
+    EXPECT_EQ(huge.lo[0], std::numeric_limits<float>::max());
+    EXPECT_EQ(huge.hi[0], inf);
+    EXPECT_EQ(huge.lo[1], -inf);
+    EXPECT_EQ(huge.hi[1], -std::numeric_limits<float>::max());
+}
+
+TEST(TriangleFrame, KeptFrameGivesTheSameBitsAsComputingIt) {
+    JETRACE_SEEDED_RNG(rng);
+    int compared = 0;
+    for (int k = 0; k < 300; ++k) {
+        const double size = std::exp(uniform(rng, std::log(0.05), std::log(60.0)));
+        const Vec3 at = random_in_box(rng, Vec3(-1000, -100, -1000), Vec3(1000, 100, 1000));
+        Triangle t = Triangle::make(at + random_unit(rng) * size, at + random_unit(rng) * size,
+                                    at + random_unit(rng) * size);
+        if (k % 10 == 0) t = Triangle::make(at, at + Vec3(size, 0, 0), at + Vec3(size, 1e-5 * size, 0));  // sliver
+        if (t.degenerate) continue;
+        const TriangleFrame frame = TriangleFrame::of(t);
+        for (int q = 0; q < 200; ++q) {
+            const Vec3 p = random_on_triangle(rng, t) + random_unit(rng) * uniform(rng, 0, 2 * size + 3);
+            const double reach = uniform(rng, 0, 2 * size + 3);
+            ClosestPoint a, b;
+            const bool ra = closest_point_within(p, t, reach, a);
+            const bool rb = closest_point_within(p, t, frame, reach, b);
+            ASSERT_EQ(ra, rb) << "triangle " << k << " point " << str(p);
+            if (!ra) continue;
+            ++compared;
+            ASSERT_EQ(std::memcmp(a.point.data(), b.point.data(), sizeof(double) * 3), 0) << "triangle " << k;
+            ASSERT_EQ(a.region, b.region) << "triangle " << k;
+        }
+    }
+    EXPECT_GT(compared, 10000);
+}
