@@ -1,5 +1,7 @@
 #include "jetrace/driver_ai.hpp"
 
+#include "jetrace/candidates.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -8,12 +10,16 @@ namespace jetrace {
 namespace {
 
 // True if any triangle is within the contact skin of the sphere at `p`: the
-// test find_contacts() makes (a triangle beyond the reach of its plane or
-// of an edge is rejected before its closest point is computed).
+// test find_contacts() makes (a triangle whose grid box is beyond reach,
+// or beyond the reach of its plane or of an edge, is rejected before its
+// closest point is computed). The box test first: on a dense mesh the
+// cells around a car hold hundreds of triangles, a handful within reach.
 bool touches_track(const Scene& sc, const Vec3& p) {
     const double reach = sc.physics.car_radius_m + sc.physics.contact_skin_m;
     const double reach2 = reach * reach;
+    const double h = reach + kBoxSlack_m;
     return sc.grid.any_candidate(Aabb::around(p, reach), [&](std::uint32_t i) {
+        if (!(box_distance2(sc.grid.box(i).aabb(), p.x(), p.y(), p.z()) <= h * h)) return false;
         ClosestPoint cp;
         return closest_point_within(p, sc.track.triangles[i], reach, cp) && (p - cp.point).squaredNorm() < reach2;
     });

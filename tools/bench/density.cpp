@@ -20,6 +20,7 @@ constexpr int kCars = 8;
 struct Recorded {
     std::vector<Input> inputs;  // kCars per tick
     double candidates_per_car_step = 0;
+    double ai_ns_per_car_step = 0;  // drive() alone, thread CPU time, one run
 };
 
 Recorded record(const Scene& sc, const WorldState& start, int ticks) {
@@ -29,13 +30,17 @@ Recorded record(const Scene& sc, const WorldState& start, int ticks) {
     WorldState state = start;
     StepScratch scratch;
     double gathered = 0;
+    double ai_ns = 0;
     for (int t = 0; t < ticks; ++t) {
         Input* in = &r.inputs[static_cast<std::size_t>(kCars) * static_cast<std::size_t>(t)];
+        const CpuTimer ai;
         for (int i = 0; i < kCars; ++i) in[i] = drive(sc, state, i, skills[static_cast<std::size_t>(i)]);
+        ai_ns += ai.ns();
         step(sc, state, std::span<const Input>(in, kCars), scratch);
         for (const CarScratch& c : scratch.cars) gathered += static_cast<double>(c.candidates.triangles.size());
     }
     r.candidates_per_car_step = gathered / (static_cast<double>(ticks) * kCars);
+    r.ai_ns_per_car_step = ai_ns / (static_cast<double>(ticks) * kCars);
     return r;
 }
 
@@ -119,6 +124,7 @@ int run_density(const DensityOptions& o) {
                 j["same_result"] = hashes[c] == hashes[0];
             }
             j["candidates_per_car_step"] = r.candidates_per_car_step;
+            j["ai_ns_per_car_step"] = r.ai_ns_per_car_step;
             std::printf("%s\n", j.dump().c_str());
             std::fflush(stdout);
         }
