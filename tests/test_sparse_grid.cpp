@@ -277,10 +277,10 @@ TEST(SparseGrid, CellEdgeIgnoresTheExtentAndMemoryFollowsEntries) {
         EXPECT_GT(dense_cells, 5e8);
         EXPECT_LE(g->cell_count(), static_cast<std::int64_t>(g->entry_count()));
         // 4 bytes per pair, at most 28 per occupied cell (4-byte hash slots
-        // at load >= 1/4, 12-byte cell record) and 12 per triangle (its
-        // lowest cell).
+        // at load >= 1/4, 12-byte cell record) and 24 per triangle (its
+        // box in floats).
         EXPECT_LE(g->memory_bytes(), 4 * g->entry_count() + 28 * std::size_t(g->cell_count()) +
-                                         12 * near.triangles.size() + 32);
+                                         24 * near.triangles.size() + 32);
         // A dense grid's offsets alone would take 4 bytes per cell.
         EXPECT_LT(double(g->memory_bytes()), 4 * dense_cells / 1000);
     }
