@@ -11,23 +11,26 @@ namespace jetrace {
 namespace {
 
 // Sorts `v`, made of ascending runs, by merging neighbouring runs pass after
-// pass (`scratch`: the caller's, to keep its capacity).
-void merge_runs(std::vector<std::uint32_t>& v, std::vector<std::uint32_t>& scratch) {
-    std::vector<std::size_t> bounds{0};  // run starts, then the end
+// pass (the scratch vectors: the caller's, to keep their capacity).
+void merge_runs(std::vector<std::uint32_t>& v, MergeScratch& scratch) {
+    std::vector<std::size_t>& bounds = scratch.starts;  // run starts, then the end
+    std::vector<std::size_t>& merged = scratch.next_starts;
+    bounds.assign(1, 0);
     for (std::size_t i = 1; i < v.size(); ++i) {
         if (v[i] < v[i - 1]) bounds.push_back(i);
     }
     bounds.push_back(v.size());
     while (bounds.size() > 2) {
-        scratch.resize(v.size());
-        std::vector<std::size_t> merged{0};
+        scratch.values.resize(v.size());
+        merged.assign(1, 0);
         for (std::size_t r = 0; r + 1 < bounds.size(); r += 2) {
             const auto at = [&](std::size_t i) { return v.begin() + static_cast<std::ptrdiff_t>(bounds[i]); };
             const std::size_t last = std::min(r + 2, bounds.size() - 1);
-            std::merge(at(r), at(r + 1), at(r + 1), at(last), scratch.begin() + static_cast<std::ptrdiff_t>(bounds[r]));
+            std::merge(at(r), at(r + 1), at(r + 1), at(last),
+                       scratch.values.begin() + static_cast<std::ptrdiff_t>(bounds[r]));
             merged.push_back(bounds[last]);
         }
-        v.swap(scratch);
+        v.swap(scratch.values);
         bounds.swap(merged);
     }
 }

@@ -151,6 +151,7 @@ UniformGrid::UniformGrid(const std::vector<Triangle>& triangles, const Aabb& bou
                          double cell_size_m, Levels levels) {
     const bool with_coarse = levels == Levels::two;
     bounds_ = bounds;
+    reach_ = FloatBox::around(bounds).aabb();
     origin_ = bounds.min;
     const std::size_t n = triangles.size();
 

@@ -25,6 +25,14 @@ inline double box_distance2(const Aabb& b, double px, double py, double pz) {
     return dx * dx + dy * dy + dz * dz;
 }
 
+/// What the gather's merge of its ascending runs works in (kept between
+/// gathers so that a warm gather does not allocate).
+struct MergeScratch {
+    std::vector<std::uint32_t> values;
+    std::vector<std::size_t> starts;
+    std::vector<std::size_t> next_starts;
+};
+
 /// The triangles near a car: gathered, then reused by the following steps
 /// and every push-out pass while the car stays inside the gathered region.
 /// Each comes with its bounding box, so the narrow phase skips a far one
@@ -59,7 +67,7 @@ struct Candidates {
     Vec3 lookahead{0, 0, 0};
     bool all = false;  // brute force: every triangle
     /// The gather's scratch (kept to keep its capacity).
-    std::vector<std::uint32_t> merge_scratch;
+    MergeScratch merge_scratch;
 
     /// Each candidate's TriangleFrame once computed (framed[k] != 0): the
     /// triangles under a car are tested in step after step, and the frame

@@ -44,10 +44,11 @@ inline constexpr double kGatherLookahead_steps = 12.0;
 /// (365 m/s: 36 m in 12 steps) does not gather a long corridor.
 inline constexpr double kGatherLookaheadMax_m = 50.0;
 
-/// Gathers the triangles whose bounds overlap the box around the cube of
-/// half-edge `radius_m` at `center` and the same cube moved by
-/// out.lookahead (grid query, then an exact box test), in ascending index
-/// order; or marks all triangles (brute force).
+/// Gathers the triangles whose grid boxes (their bounds rounded outward to
+/// floats, UniformGrid::box) overlap the box around the cube of half-edge
+/// `radius_m` at `center` and the same cube moved by out.lookahead (grid
+/// query, then a test of each box), in ascending index order, each once; or
+/// marks all triangles (brute force).
 void gather_candidates(const TrackQuery& q, const Vec3& center, double radius_m, Candidates& out);
 
 /// What a query needs its candidates for, which decides how far they reach.

@@ -38,8 +38,10 @@
 // every query walks after the fine one. A level's few ground triangles far
 // wider than its cells would otherwise make most of the pairs (truck_town:
 // 94 % of them in 10 m cells, 219 bytes a triangle; 32 with two levels, at
-// the same cost per car-step). Users that need every triangle overlapping a
-// box (the gather, which then filters and sorts) get them, each once.
+// the same cost per car-step). for_each_candidate reports every triangle
+// bucketed in a box's cells once (its owner cell decides); the gather uses
+// for_each_bucketed instead, which may report one several times, and then
+// filters by the boxes, merges and drops the repeats.
 //
 // Cell size rule (see cell_size_for): the edge is the typical triangle's
 // size (the median over the triangles of their box's largest extent),
@@ -124,9 +126,10 @@ public:
                 Levels levels);
 
     /// The cells a box covers (clamped to the grid; NaN counts as the lowest
-    /// cell). Returns false if the box misses the grid's bounds entirely.
+    /// cell). Returns false if the box misses the grid's bounds (rounded
+    /// outward to floats, like every triangle's box) entirely.
     bool cell_range(const Aabb& box, CellRange& out) const {
-        if (slots_.empty() || !box.overlaps(bounds_)) return false;
+        if (slots_.empty() || !box.overlaps(reach_)) return false;
         for (int i = 0; i < 3; ++i) {
             out.lo[i] = coord(box.min[i], i);
             out.hi[i] = coord(box.max[i], i);
@@ -296,6 +299,7 @@ private:
     double inv_cell_ = 1.0;
     std::int32_t dims_[3] = {1, 1, 1};
     Aabb bounds_;
+    Aabb reach_;  // bounds_ rounded outward to floats: holds every triangle's box
     int shift_ = 63;                      // 64 - log2(slots_.size())
     std::size_t mask_ = 0;                // slots_.size() - 1
     std::uint32_t empty_ = 0;             // = cell_count(): what an empty slot holds
