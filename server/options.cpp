@@ -51,6 +51,9 @@ void add_race_options(CLI::App& app, HostOptions& o) {
     app.add_option("--reconnect-grace", cfg.reconnect_grace_s,
                    "how long a dropped player's slot and car wait for its reconnect (s; 0: none)")
         ->check(in_range(L::reconnect_grace_s));
+    app.add_option("--input-hold", cfg.input_hold_s,
+                   "a player's missing input repeats its last one this long, then the car gets neutral inputs (s)")
+        ->check(in_range(L::input_hold_s));
     app.add_option("--hello-timeout", o.hello_timeout_s,
                    "drop a connection that has not said Hello after this long (s of real time, whatever --time-scale)")
         ->check(in_range(L::hello_timeout_s));

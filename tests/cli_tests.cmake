@@ -83,6 +83,8 @@ foreach(spec
     "nonce_file_without_key|--nonce-file;/tmp/jetrace-nonces|--nonce-file needs --key-file"
     "bad_pre_hello_limit|--pre-hello-limit;5000|--pre-hello-limit: Value 5000 not in range"
     "nan_linger|--linger;nan|--linger: Value nan is not a finite number"
+    "nan_input_hold|--input-hold;nan|--input-hold: Value nan is not a finite number"
+    "long_input_hold|--input-hold;61|--input-hold: Value 61 not in range \\[0, 60\\]"
     "negative_linger|--linger;-1|--linger: Value -1 not in range \\[0, 3600\\]"
     "scaled_linger|--linger;100;--time-scale;100|--linger 100 times --time-scale 100 is 10000 s")
   string(REPLACE "|" ";" parts "${spec}")

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # The server's files. (1) --races 2 with %n: each race its own results and
 # replay; a racer killed mid-race (no reconnect grace) is listed as dropped
-# and not finished; the lobby timeout starts race 2 with the two left.
+# and not finished (its car coasts on neutral inputs once the input hold is
+# over, so it cannot finish before ENet times it out); the lobby timeout
+# starts race 2 with the two left.
 # (2) The results directory removed while the server runs: race 1's results
 # are lost, the log says so with errno, and the exit code is 1. (3) A
 # results name without %n whose second write fails: the first race's file

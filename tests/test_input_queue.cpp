@@ -53,9 +53,9 @@ TEST(InputQueue, FirstInputPerTickWinsAndConflictsAreReported) {
     got = q.accept(batch(11, {steer(-15)}), 10, 240);
     EXPECT_EQ(got.conflicting_tick, 11u);
     bool missing = true;
-    EXPECT_EQ(q.pick(10, missing).pack(), steer(7).pack());
+    EXPECT_EQ(q.pick(10, 60, missing).pack(), steer(7).pack());
     EXPECT_FALSE(missing);
-    EXPECT_EQ(q.pick(11, missing).pack(), steer(3).pack());
+    EXPECT_EQ(q.pick(11, 60, missing).pack(), steer(3).pack());
     EXPECT_EQ(q.last_applied_tick(), 11u);
 }
 
@@ -63,13 +63,33 @@ TEST(InputQueue, MissingInputsRepeatTheLastAndLateOnesAreCounted) {
     InputQueue q;
     q.accept(batch(0, {steer(7)}), 0, 240);
     bool missing = false;
-    EXPECT_EQ(q.pick(0, missing).pack(), steer(7).pack());
-    EXPECT_EQ(q.pick(1, missing).pack(), steer(7).pack());
+    EXPECT_EQ(q.pick(0, 60, missing).pack(), steer(7).pack());
+    EXPECT_EQ(q.pick(1, 60, missing).pack(), steer(7).pack());
     EXPECT_TRUE(missing);
     EXPECT_EQ(q.last_applied_tick(), 0u);
     // Tick 1 was stepped without its input: it is late; tick 0 came in time.
     const auto got = q.accept(batch(0, {steer(7), steer(15), steer(15)}), 2, 240);
     EXPECT_EQ(got.late, 1u);
+}
+
+TEST(InputQueue, ASilentClientsCarGoesNeutralAfterTheHoldAndResumesWithItsInputs) {
+    InputQueue q;
+    q.accept(batch(0, {steer(7)}), 0, 240);
+    bool missing = false;
+    EXPECT_EQ(q.pick(0, 3, missing).pack(), steer(7).pack());
+    for (std::uint32_t t = 1; t <= 3; ++t) {
+        EXPECT_EQ(q.pick(t, 3, missing).pack(), steer(7).pack()) << "tick " << t;
+        EXPECT_TRUE(missing);
+    }
+    EXPECT_EQ(q.pick(4, 3, missing).pack(), Input{}.pack());  // more than 3 ticks since the last input
+    EXPECT_EQ(q.pick(5, 3, missing).pack(), Input{}.pack());
+    EXPECT_EQ(q.last_applied_tick(), 0u);
+    q.accept(batch(6, {steer(15)}), 6, 240);
+    EXPECT_EQ(q.pick(6, 3, missing).pack(), steer(15).pack());
+    EXPECT_FALSE(missing);
+    EXPECT_EQ(q.pick(7, 3, missing).pack(), steer(15).pack());  // held again
+    // A hold of 0 ticks: nothing is repeated.
+    EXPECT_EQ(q.pick(8, 0, missing).pack(), Input{}.pack());
 }
 
 TEST(InputQueue, TheLeadLimitDropsTheRestOfTheBatch) {
@@ -99,11 +119,11 @@ TEST(InputQueue, ResetForgetsEverything) {
     InputQueue q;
     q.accept(batch(0, {steer(7)}), 0, 240);
     bool missing = false;
-    q.pick(0, missing);
+    q.pick(0, 60, missing);
     q.reset();
     EXPECT_EQ(q.newest_tick(), jp::kNoTick);
     EXPECT_EQ(q.last_applied_tick(), jp::kNoTick);
-    EXPECT_EQ(q.pick(0, missing).pack(), Input{}.pack());
+    EXPECT_EQ(q.pick(0, 60, missing).pack(), Input{}.pack());
     EXPECT_TRUE(missing);
 }
 

@@ -53,13 +53,15 @@ InputQueue::Accepted InputQueue::accept(const proto::InputBatch& b, std::uint32_
     return out;
 }
 
-Input InputQueue::pick(std::uint32_t tick, bool& missing) {
+Input InputQueue::pick(std::uint32_t tick, std::uint32_t hold_ticks, bool& missing) {
     missing = true;
     if (const Input* got = ring_.find(tick)) {
         last_input_ = *got;
         last_applied_tick_ = tick;
         missing = false;
+        return last_input_;
     }
+    if (last_applied_tick_ == proto::kNoTick || tick - last_applied_tick_ > hold_ticks) return Input{};
     return last_input_;
 }
 

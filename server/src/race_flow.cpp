@@ -55,14 +55,16 @@ void RaceServer::start_race() {
 }
 
 void RaceServer::step_race() {
-    // Exactly one input per car per tick; a missing one repeats the last.
+    // Exactly one input per car per tick; a missing one repeats the last for
+    // at most the input hold, then is neutral.
+    const auto hold_ticks = static_cast<std::uint32_t>(config_.input_hold_s * scene_.physics.tick_rate_hz + 0.5);
     for (std::size_t s = 0; s < world_.cars.size(); ++s) {
         applied_[s] = Input{};
         // A held car (its player dropped) drives on with neutral inputs.
         Client* driver = sessions_.driver_of(s);
         if (!driver || !world_.cars[s].active) continue;
         bool missing = false;
-        applied_[s] = driver->inputs.pick(world_.tick, missing);
+        applied_[s] = driver->inputs.pick(world_.tick, hold_ticks, missing);
         if (missing) ++counters_.inputs_missing;
     }
     if (observer) observer->before_step(world_.tick, pending_removals_, applied_);

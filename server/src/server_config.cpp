@@ -32,6 +32,7 @@ std::string validate(const ServerConfig& c, int tick_rate_hz) {
     check(err, c.finish_window_s, L::finish_window_s, "finish window", " s");
     check(err, c.max_race_s, L::max_race_s, "max race time", " s");
     check(err, c.max_input_lead_ticks, L::max_input_lead_ticks, "max input lead", " ticks (the input ring's size, less one)");
+    check(err, c.input_hold_s, L::input_hold_s, "input hold", " s");
     check(err, c.hello_timeout_s, L::hello_timeout_s, "hello timeout", " s");
     check(err, c.reconnect_grace_s, L::reconnect_grace_s, "reconnect grace", " s");
     check(err, c.linger_s, L::linger_s, "linger", " s");

@@ -1,7 +1,7 @@
 // One player's inputs on their way into the simulation: what the server
 // accepts from InputBatches (one input per tick, the first one received,
 // within the lead limit), which input steps each tick (a missing one repeats
-// the last), and what is known of the coming ticks (relayed in snapshots).
+// the last for a while, then neutral), and what is known of the coming ticks (relayed in snapshots).
 #pragma once
 
 #include "jetrace/hovercar.hpp"
@@ -40,8 +40,10 @@ public:
     Accepted accept(const proto::InputBatch& b, std::uint32_t now_tick, int max_lead_ticks);
 
     /// The input that steps `tick` (asked once per tick, in order): the one
-    /// received, else the last one applied. Sets `missing` when none came.
-    Input pick(std::uint32_t tick, bool& missing);
+    /// received, else the last one applied if it stepped a tick at most
+    /// `hold_ticks` before, else neutral (`Input{}`). Sets `missing` when
+    /// none came.
+    Input pick(std::uint32_t tick, std::uint32_t hold_ticks, bool& missing);
 
     /// The inputs received for `from`, `from + 1`, ... with no gap, at most `max`.
     void upcoming(std::uint32_t from, std::size_t max, std::vector<Input>& out) const;

@@ -55,6 +55,12 @@ struct ServerConfig {
     double max_race_s = 1200.0;
     /// Inputs further ahead of the server tick are dropped (unit: ticks).
     int max_input_lead_ticks = 240;
+    /// A player's missing input repeats its last one for at most this long
+    /// after the last input that came; then the car drives with neutral
+    /// inputs until inputs come again, so a client gone silent (crashed,
+    /// unplugged, not yet timed out) does not hold full throttle or full
+    /// lock (unit: s of the server's clock).
+    double input_hold_s = 0.5;
     /// A connection that has not said Hello by then is dropped (unit: s of
     /// the caller's clock; jetrace-server scales its --hello-timeout, given
     /// in real time, by --time-scale).
@@ -103,6 +109,7 @@ struct ServerLimits {
     static constexpr ValueRange finish_window_s = above(0, 3600);
     static constexpr ValueRange max_race_s = above(0, 86400);
     static constexpr ValueRange max_input_lead_ticks = closed(1, InputQueue::kMaxLeadTicks);
+    static constexpr ValueRange input_hold_s = closed(0, 60);
     static constexpr ValueRange hello_timeout_s = closed(0.001, 86400);
     static constexpr ValueRange lobby_timeout_s = closed(0, 86400);
     static constexpr ValueRange lobby_log_interval_s = above(0, 86400);
