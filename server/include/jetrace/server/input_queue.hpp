@@ -1,7 +1,8 @@
 // One player's inputs on their way into the simulation: what the server
 // accepts from InputBatches (one input per tick, the first one received,
 // within the lead limit), which input steps each tick (a missing one repeats
-// the last for a while, then neutral), and what is known of the coming ticks (relayed in snapshots).
+// the last for a while, then neutral), and what is known of the coming ticks
+// (relayed in snapshots).
 #pragma once
 
 #include "jetrace/hovercar.hpp"
