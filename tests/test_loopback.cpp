@@ -22,7 +22,8 @@ struct RaceOutcome {
     int hash_checks = 0;
     int hash_mismatches = 0;
     /// Largest distance between where bot 0 draws bot 1 (interpolated) and
-    /// bot 1's newest authoritative position, while racing (unit: m).
+    /// bot 1's newest authoritative position, while racing and not drawing
+    /// it before a respawn the newest snapshot shows (unit: m).
     double max_interpolation_gap_m = 0;
     int interpolation_checks = 0;
     /// Most players bot 0's roster (RaceClient::players()) listed at once,
@@ -46,6 +47,10 @@ RaceOutcome race(int bots, const jetrace::net::Conditions* conditions, int laps,
 
     // Server hashes by tick, to check clients decode exactly what it had.
     std::map<std::uint32_t, std::uint64_t> server_hashes;
+    // Bot 1's respawns as bot 0 last saw them, and the snapshot tick that
+    // first showed that count.
+    std::uint32_t respawns_seen = 0;
+    double respawn_seen_tick = 0;
     out.server_done = live.run(
         [&] {
             const auto& server = live.server();
@@ -66,7 +71,14 @@ RaceOutcome race(int bots, const jetrace::net::Conditions* conditions, int laps,
             for (const auto& p : roster) out.roster_named = out.roster_named && !p.name.empty();
             if (server.phase() == jetrace::proto::RacePhase::racing && bots > 1) {
                 const auto& a = live.bot(0).client->authoritative();
-                if (a.cars.size() > 1 && a.cars[1].active && !a.cars[1].finished) {
+                if (a.cars.size() > 1 && a.cars[1].respawns != respawns_seen) {
+                    respawns_seen = a.cars[1].respawns;
+                    respawn_seen_tick = a.tick;
+                }
+                // Until the render tick reaches the snapshot that showed a
+                // respawn, the car is drawn where it was before it.
+                const bool respawning = live.bot(0).client->render_tick() < respawn_seen_tick;
+                if (a.cars.size() > 1 && a.cars[1].active && !a.cars[1].finished && !respawning) {
                     const double gap = (live.bot(0).client->visual_position(1) - a.cars[1].position).norm();
                     out.max_interpolation_gap_m = std::max(out.max_interpolation_gap_m, gap);
                     ++out.interpolation_checks;

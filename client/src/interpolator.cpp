@@ -24,6 +24,14 @@ double fraction(const SnapshotStore::Entry& a, const SnapshotStore::Entry& b, do
     return (render - a.tick) / static_cast<double>(b.tick - a.tick);
 }
 
+/// True if car `s` respawned between a and b: it jumped to its last gate
+/// at a tick neither snapshot shows, so there is no path between them to
+/// draw (a line would slide it across the track); it stays at a until the
+/// render tick reaches b.
+bool teleported(const SnapshotStore::Entry& a, const SnapshotStore::Entry& b, std::size_t s) {
+    return a.world.state.cars[s].respawns != b.world.state.cars[s].respawns;
+}
+
 }  // namespace
 
 void Interpolator::set_rates(int tick_rate_hz, int snapshot_rate_hz) {
@@ -46,7 +54,7 @@ Vec3 Interpolator::other(const SnapshotStore& store, int slot, std::uint64_t now
     const SnapshotStore::Entry* a = nullptr;
     const SnapshotStore::Entry* b = nullptr;
     bracket(store, s, render, a, b);
-    if (a && b) {
+    if (a && b && !teleported(*a, *b, s)) {
         const Vec3& pa = a->world.state.cars[s].position;
         return pa + (b->world.state.cars[s].position - pa) * fraction(*a, *b, render);
     }
@@ -82,7 +90,7 @@ void Interpolator::world(const SnapshotStore& store, std::uint64_t now_us, doubl
         bracket(store, s, render, a, b);
         if (!a && !b) continue;  // the newest snapshot's
         out.cars[s] = (a ? a : b)->world.state.cars[s];
-        if (!a || !b) continue;  // never extrapolate
+        if (!a || !b || teleported(*a, *b, s)) continue;  // never extrapolate
         const CarState& cb = b->world.state.cars[s];
         const double f = fraction(*a, *b, render);
         CarState& car = out.cars[s];

@@ -1,7 +1,9 @@
 // Where the client draws cars: its own one at the prediction plus a
 // correction offset that fades out (kept apart from the simulated state),
 // the others interpolated between two stored snapshots around a render
-// tick that trails the newest snapshot (never extrapolated).
+// tick that trails the newest snapshot (never extrapolated, and never
+// across a respawn: a car that respawned between the two is drawn where
+// the older one has it until the render tick reaches the newer).
 #pragma once
 
 #include "jetrace/client/snapshot_store.hpp"
