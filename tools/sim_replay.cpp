@@ -95,7 +95,8 @@ void print_state_json(const WorldState& s) {
     for (std::size_t i = 0; i < s.cars.size(); ++i) {
         const Vec3& p = s.cars[i].position;
         if (!s.cars[i].active) continue;
-        std::printf("%s{\"slot\":%zu,\"p\":[%.17g,%.17g,%.17g]}", sep, i, p.x(), p.y(), p.z());
+        std::printf("%s{\"slot\":%zu,\"p\":[%.17g,%.17g,%.17g],\"respawns\":%u}", sep, i, p.x(), p.y(), p.z(),
+                    s.cars[i].respawns);
         sep = ",";
     }
     std::printf("]}\n");

@@ -30,7 +30,7 @@ int diff_files(const std::string& a, const std::string& b, const ReplayArgs& arg
 int synctest_file(const std::string& path, const ReplayArgs& args);
 
 /// Re-simulates a replay up to world tick `stop_tick` and prints that world
-/// as one JSON line: {"tick":N,"cars":[{"slot":S,"p":[x,y,z]},...]}, active
+/// as one JSON line: {"tick":N,"cars":[{"slot":S,"p":[x,y,z],"respawns":R},...]}, active
 /// cars only, each coordinate with 17 significant digits (reads back bit
 /// for bit). Exit 2 if the replay cannot be read or has no such tick.
 int state_at_file(const std::string& path, const ReplayArgs& args, std::uint32_t stop_tick);
