@@ -1,6 +1,7 @@
-// Where the client draws the other cars: between the two stored snapshots
-// around the render tick, never beyond the newest, and never along the line
-// from where a car was to where it respawned.
+// Where the client draws the cars: the others between the two stored
+// snapshots around the render tick, never beyond the newest, and never along
+// the line from where a car was to where it respawned; its own one where it
+// is predicted, a correction fading out, unless the correction is a respawn.
 #include "jetrace/builtin_tracks.hpp"
 #include "jetrace/client/interpolator.hpp"
 #include "jetrace/client/snapshot_store.hpp"
@@ -98,6 +99,20 @@ TEST_F(InterpolatorTest, ACarThatRespawnedJumpsWithoutSlidingAcrossTheTrack) {
     // Before the respawn it is interpolated as usual.
     drawn_at(101.0, 104, other, world);
     EXPECT_NEAR(other.x(), 1.0, 1e-3);
+}
+
+TEST(Interpolator, AnOwnCarsCorrectionFadesButARespawnIsDrawnAtOnce) {
+    Interpolator interp(2.0, 0.25);
+    // Predicted at (0, 3, 0), corrected to (1, 3, 0): still drawn where it was.
+    interp.correct(Vec3(0, 3, 0), Vec3(1, 3, 0), false);
+    EXPECT_EQ(interp.own(Vec3(1, 3, 0)), Vec3(0, 3, 0));
+    interp.tick();  // a quarter of the offset gone
+    EXPECT_NEAR(interp.own(Vec3(1, 3, 0)).x(), 0.25, 1e-12);
+    // A correction that respawned it (or took a respawn back): drawn at once.
+    interp.correct(Vec3(1, 3, 0), Vec3(-40, 3, 60), true);
+    EXPECT_EQ(interp.own(Vec3(-40, 3, 60)), Vec3(-40, 3, 60));
+    interp.tick();
+    EXPECT_EQ(interp.own(Vec3(-40, 3, 60)), Vec3(-40, 3, 60));
 }
 
 }  // namespace

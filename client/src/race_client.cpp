@@ -189,6 +189,7 @@ void RaceClient::reset_world() {
 void RaceClient::reconcile(const proto::WorldSnapshot& snap) {
     const auto own = static_cast<std::size_t>(slot_);
     const Vec3 before = predictor_.world().cars[own].position;
+    const std::uint32_t respawns_before = predictor_.world().cars[own].respawns;
     const Predictor::Outcome o = predictor_.reconcile(scene(), snap, own, !spectating_ && snap.state.cars[own].active);
     stats_.replayed_ticks = predictor_.work().replayed_ticks;
     stats_.skipped_replays = predictor_.work().skipped_replays;
@@ -201,7 +202,10 @@ void RaceClient::reconcile(const proto::WorldSnapshot& snap) {
         spdlog::debug("{}: correction at tick {}: error {:.4f} m, last applied input {}, predicted tick {}",
                       config_.name, snap.state.tick, o.error_m, snapshots_.last_applied_input_tick(), predicted_tick());
     }
-    if (!predictor_.thin()) interpolator_.correct(before, predictor_.world().cars[own].position);
+    if (!predictor_.thin()) {
+        const CarState& after = predictor_.world().cars[own];
+        interpolator_.correct(before, after.position, after.respawns != respawns_before);
+    }
 }
 
 void RaceClient::count_cause(const proto::WorldSnapshot& snap) {

@@ -28,8 +28,13 @@ public:
     void set_rates(int tick_rate_hz, int snapshot_rate_hz = kDefaultSnapshotRateHz);
     void reset() { offset_ = Vec3::Zero(); }
     /// A reconciliation moved the predicted own car from `before` to `after`:
-    /// it is still drawn at `before`, the offset fading from there.
-    void correct(const Vec3& before, const Vec3& after) { offset_ += before - after; }
+    /// it is still drawn at `before`, the offset fading from there; unless
+    /// the correction `respawned` it (its respawn count changed: a jump to
+    /// its last gate, or back), which is drawn at once rather than slid
+    /// across the track.
+    void correct(const Vec3& before, const Vec3& after, bool respawned) {
+        offset_ = respawned ? Vec3::Zero() : Vec3(offset_ + before - after);
+    }
     /// One predicted tick: the offset fades.
     void tick() { offset_ *= 1.0 - smoothing_per_tick_; }
 
