@@ -3,6 +3,7 @@
 // faster than real time. Conditions (loss, latency, jitter, duplication,
 // reordering) are injected in the transport on both sides.
 #include "support/live_race.hpp"
+#include "support/respawn_window.hpp"
 
 #include <gtest/gtest.h>
 
@@ -26,6 +27,10 @@ struct RaceOutcome {
     /// it before a respawn the newest snapshot shows (unit: m).
     double max_interpolation_gap_m = 0;
     int interpolation_checks = 0;
+    /// Largest distance between where bot 0 draws bot 1 and where bot 1 was
+    /// before a respawn the newest snapshot shows, until the render tick
+    /// reaches that snapshot (0 if it never respawned; unit: m).
+    double max_gap_before_respawn_m = 0;
     /// Most players bot 0's roster (RaceClient::players()) listed at once,
     /// and whether every entry had a name.
     std::size_t max_roster = 0;
@@ -47,10 +52,7 @@ RaceOutcome race(int bots, const jetrace::net::Conditions* conditions, int laps,
 
     // Server hashes by tick, to check clients decode exactly what it had.
     std::map<std::uint32_t, std::uint64_t> server_hashes;
-    // Bot 1's respawns as bot 0 last saw them, and the snapshot tick that
-    // first showed that count.
-    std::uint32_t respawns_seen = 0;
-    double respawn_seen_tick = 0;
+    jetrace::test::RespawnWindows respawns;  // as bot 0 sees them
     out.server_done = live.run(
         [&] {
             const auto& server = live.server();
@@ -71,17 +73,18 @@ RaceOutcome race(int bots, const jetrace::net::Conditions* conditions, int laps,
             for (const auto& p : roster) out.roster_named = out.roster_named && !p.name.empty();
             if (server.phase() == jetrace::proto::RacePhase::racing && bots > 1) {
                 const auto& a = live.bot(0).client->authoritative();
-                if (a.cars.size() > 1 && a.cars[1].respawns != respawns_seen) {
-                    respawns_seen = a.cars[1].respawns;
-                    respawn_seen_tick = a.tick;
-                }
-                // Until the render tick reaches the snapshot that showed a
-                // respawn, the car is drawn where it was before it.
-                const bool respawning = live.bot(0).client->render_tick() < respawn_seen_tick;
-                if (a.cars.size() > 1 && a.cars[1].active && !a.cars[1].finished && !respawning) {
-                    const double gap = (live.bot(0).client->visual_position(1) - a.cars[1].position).norm();
-                    out.max_interpolation_gap_m = std::max(out.max_interpolation_gap_m, gap);
-                    ++out.interpolation_checks;
+                respawns.see(a);
+                if (a.cars.size() > 1 && a.cars[1].active && !a.cars[1].finished) {
+                    const jetrace::Vec3 drawn = live.bot(0).client->visual_position(1);
+                    // Until the render tick reaches the snapshot that showed
+                    // a respawn, the car is drawn where it was before it.
+                    if (respawns.drawn_before_respawn(1, live.bot(0).client->render_tick())) {
+                        out.max_gap_before_respawn_m =
+                            std::max(out.max_gap_before_respawn_m, (drawn - respawns.before(1)).norm());
+                    } else {
+                        out.max_interpolation_gap_m = std::max(out.max_interpolation_gap_m, (drawn - a.cars[1].position).norm());
+                        ++out.interpolation_checks;
+                    }
                 }
             }
         },
@@ -130,6 +133,7 @@ TEST(Loopback, EightBotsNoLoss) {
     // few metres back, never tens.
     EXPECT_GT(o.interpolation_checks, 100);
     EXPECT_LT(o.max_interpolation_gap_m, 8.0);
+    EXPECT_LT(o.max_gap_before_respawn_m, 8.0) << "a respawned car was drawn on its way to its last gate";
     EXPECT_GT(o.max_interpolation_gap_m, 0.0) << "interpolation shows the newest state: no delay at all";
     EXPECT_EQ(o.hash_mismatches, 0) << "a client decoded a state whose hash differs from the server's at that tick";
     EXPECT_EQ(jetrace::hash_hex(o.replay_hash), jetrace::hash_hex(o.end.state_hash))

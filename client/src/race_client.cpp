@@ -240,7 +240,11 @@ void RaceClient::run_tick(const InputSource& input) {
             mine = thin_input_;
         }
     }
+    const std::uint32_t respawns = predictor_.world().cars[own].respawns;
     predictor_.run_tick(scene(), own, mine, snapshots_.latest());
+    // A predicted respawn: what is left of a correction offset belongs to
+    // where the car was, not to its last gate.
+    if (predictor_.world().cars[own].respawns != respawns) interpolator_.reset();
     interpolator_.tick();
 }
 

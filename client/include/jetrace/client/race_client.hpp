@@ -139,11 +139,13 @@ public:
     net::Totals totals() const { return link_.totals(); }
 
     /// Where to draw the own car: the prediction plus a correction offset
-    /// that fades out (kept apart from the simulated state).
+    /// that fades out (kept apart from the simulated state); no offset
+    /// across a respawn.
     Vec3 visual_own_position() const;
     /// Where to draw another car: interpolated between the two stored
     /// snapshots around the render tick, which trails the newest snapshot by
-    /// interpolation_snapshots snapshot intervals (never extrapolated).
+    /// interpolation_snapshots snapshot intervals (never extrapolated; a car
+    /// that respawned between the two is drawn at the older one).
     Vec3 visual_position(int slot) const { return interpolator_.other(snapshots_, slot, now_us_, clock_.period_us()); }
     /// The render tick now (the tick visual_position() draws; fractional,
     /// unit: ticks; 0 before the first snapshot).
