@@ -7,6 +7,7 @@
 #include "jetrace/client/race_client.hpp"
 #include "jetrace/proto/messages.hpp"
 #include "support/scripted_transport.hpp"
+#include "support/welcome.hpp"
 
 #include <gtest/gtest.h>
 
@@ -53,17 +54,7 @@ const Tracks& tracks() {
     return t;
 }
 
-proto::Welcome welcome_for(const Scene& sc, std::uint8_t slot) {
-    proto::Welcome w;
-    w.slot = slot;
-    w.max_players = 8;
-    w.tick_rate_hz = static_cast<std::uint16_t>(sc.physics.tick_rate_hz);
-    w.track_name = "a track";
-    w.track_identity = sc.track.identity();
-    w.physics_hash = proto::physics_hash(sc.physics);
-    w.reconnect_token.assign(proto::kTokenBytes, 7);
-    return w;
-}
+using test::welcome_for;
 
 Input no_input(const Scene&, const WorldState&, int) { return Input{}; }
 
