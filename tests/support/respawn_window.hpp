@@ -16,13 +16,16 @@ namespace jetrace::test {
 class RespawnWindows {
 public:
     /// Feeds a client's newest authoritative world (every step; the same
-    /// world again changes nothing). A lower count (a new race) opens no window.
+    /// world again changes nothing). A car's first count, and a lower one (a
+    /// new race), open no window.
     void see(const WorldState& newest) {
         if (slots_.size() < newest.cars.size()) slots_.resize(newest.cars.size());
         for (std::size_t s = 0; s < newest.cars.size(); ++s) {
             Slot& slot = slots_[s];
             const CarState& car = newest.cars[s];
-            if (car.respawns > slot.respawns) {
+            if (!slot.known) {
+                slot.known = true;  // first seen: no respawn to draw before
+            } else if (car.respawns > slot.respawns) {
                 slot.shown_at_tick = newest.tick;
                 slot.before = slot.last;
             } else if (car.respawns < slot.respawns) {
@@ -42,6 +45,7 @@ public:
 
 private:
     struct Slot {
+        bool known = false;
         std::uint32_t respawns = 0;
         std::uint32_t shown_at_tick = 0;
         Vec3 before{0, 0, 0};
