@@ -1,7 +1,8 @@
 // What makes a car's candidates cheap to scan must not change what a scan
 // finds: the run and group boxes against the one-by-one box test, the
-// float boxes the grid keeps against the exact bounds, and a kept
-// TriangleFrame against computing it each time (bit for bit).
+// float boxes the grid keeps against the exact bounds, a kept
+// TriangleFrame against computing it each time (bit for bit), and the
+// closest-point test's rejections against the exact distance.
 //
 // Random tests draw from std::mt19937_64. The seed is fixed by default; set
 // the environment variable JETRACE_TEST_SEED (decimal or 0x-hex) to run with
@@ -17,6 +18,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstring>
@@ -33,31 +35,31 @@ namespace {
 // lists them), every few a far one, so that runs are tight but not all.
 Candidates strip_of_boxes(std::mt19937_64& rng, std::size_t n) {
     Candidates c;
+    std::vector<FloatBox> float_boxes;
     Vec3 at = random_in_box(rng, Vec3(-50, -5, -50), Vec3(50, 5, 50));
     for (std::size_t k = 0; k < n; ++k) {
         at += Vec3(uniform(rng, -1.5, 1.5), uniform(rng, -0.3, 0.3), uniform(rng, -1.5, 1.5));
         const Vec3 centre = k % 13 == 7 ? random_in_box(rng, Vec3(-80, -20, -80), Vec3(80, 20, 80)) : at;
         const Vec3 half(uniform(rng, 0, 1.5), uniform(rng, 0, 0.5), uniform(rng, 0, 1.5));
         c.triangles.push_back(static_cast<std::uint32_t>(k));
-        c.boxes.push_back(Aabb{centre - half, centre + half});
+        float_boxes.push_back(FloatBox::around(Aabb{centre - half, centre + half}));
     }
-    c.finish_gather();
+    c.finish_gather([&](std::uint32_t t) -> const FloatBox& { return float_boxes[t]; });
     return c;
 }
 
 // Every candidate from k on that may_touch accepts, one by one.
-std::vector<std::size_t> one_by_one(const Candidates& c, const Vec3& p, double reach) {
+std::vector<std::size_t> one_by_one(const Candidates& c, std::size_t from, const Vec3& p, double reach) {
     std::vector<std::size_t> out;
-    for (std::size_t k = 0; k < c.boxes.size(); ++k) {
+    for (std::size_t k = from; k < c.boxes.size(); ++k) {
         if (c.may_touch(k, p, reach)) out.push_back(k);
     }
     return out;
 }
 
-std::vector<std::size_t> by_runs(const Candidates& c, const Vec3& p, double reach) {
-    std::vector<std::size_t> out;
-    for (std::size_t k = 0; (k = c.next_touching(k, p, reach)) < c.boxes.size(); ++k) out.push_back(k);
-    return out;
+std::vector<std::size_t> by_runs(const Candidates& c, std::size_t from, const Vec3& p, double reach) {
+    const std::size_t count = c.touching_from(from, p, reach);
+    return std::vector<std::size_t>(c.found.begin(), c.found.begin() + static_cast<std::ptrdiff_t>(count));
 }
 
 }  // namespace
@@ -69,17 +71,20 @@ TEST(Candidates, RunsFindExactlyWhatTheOneByOneTestFinds) {
     for (const std::size_t n : {0u, 1u, 7u, 8u, 9u, 63u, 64u, 65u, 130u, 517u}) {
         const Candidates c = strip_of_boxes(rng, n);
         ASSERT_EQ(c.runs.size(), (n + Candidates::kRunLength - 1) / Candidates::kRunLength);
+        ASSERT_EQ(c.groups.size(), (n + (std::size_t{1} << Candidates::kGroupShift) - 1) >> Candidates::kGroupShift);
         for (int q = 0; q < 400 && failures < 10; ++q) {
             Vec3 p = c.boxes.empty() ? Vec3(0, 0, 0) : c.boxes[static_cast<std::size_t>(q) % n].min;
             p += random_unit(rng) * uniform(rng, 0, 6);
             if (q % 97 == 0) p.y() = std::numeric_limits<double>::quiet_NaN();
             const double reach = q % 5 == 0 ? uniform(rng, 0, 0.01) : uniform(rng, 0.5, 4);
-            const std::vector<std::size_t> want = one_by_one(c, p, reach);
+            // From the start, or from a candidate on (a pass after a push).
+            const std::size_t from = q % 3 == 0 ? static_cast<std::size_t>(uniform(rng, 0, static_cast<double>(n + 1))) : 0;
+            const std::vector<std::size_t> want = one_by_one(c, std::min(from, n), p, reach);
             found += want.empty() ? 0 : 1;
-            if (by_runs(c, p, reach) != want) {
+            if (by_runs(c, std::min(from, n), p, reach) != want) {
                 ++failures;
-                ADD_FAILURE() << n << " candidates, query " << q << " at " << str(p) << " reach " << reach
-                              << ": next_touching differs from may_touch";
+                ADD_FAILURE() << n << " candidates, query " << q << " from " << from << " at " << str(p) << " reach "
+                              << reach << ": touching_from differs from may_touch";
             }
         }
     }
@@ -87,17 +92,26 @@ TEST(Candidates, RunsFindExactlyWhatTheOneByOneTestFinds) {
     EXPECT_GT(found, 1000) << "queries should meet boxes";
 }
 
-TEST(Candidates, RunBoxesHoldTheirBoxes) {
+TEST(Candidates, RunBoxesAreTheBoxesAroundTheirCandidates) {
     JETRACE_SEEDED_RNG(rng);
     const Candidates c = strip_of_boxes(rng, 300);
-    for (std::size_t k = 0; k < c.boxes.size(); ++k) {
-        const Aabb& run = c.runs[k / Candidates::kRunLength];
-        const Aabb& group = c.groups[k >> Candidates::kGroupShift];
-        for (const Aabb* outer : {&run, &group}) {
-            EXPECT_TRUE((outer->min.array() <= c.boxes[k].min.array()).all() &&
-                        (outer->max.array() >= c.boxes[k].max.array()).all())
-                << "candidate " << k;
+    // The smallest box around boxes[first, first + count).
+    const auto around = [&](std::size_t first, std::size_t count) {
+        Aabb b = c.boxes[first];
+        for (std::size_t k = first + 1; k < std::min(c.boxes.size(), first + count); ++k) {
+            b.min = b.min.cwiseMin(c.boxes[k].min);
+            b.max = b.max.cwiseMax(c.boxes[k].max);
         }
+        return b;
+    };
+    for (std::size_t r = 0; r < c.runs.size(); ++r) {
+        const Aabb want = around(r * Candidates::kRunLength, Candidates::kRunLength);
+        EXPECT_TRUE(c.runs[r].min == want.min && c.runs[r].max == want.max) << "run " << r;
+    }
+    const std::size_t per_group = std::size_t{1} << Candidates::kGroupShift;
+    for (std::size_t g = 0; g < c.groups.size(); ++g) {
+        const Aabb want = around(g * per_group, per_group);
+        EXPECT_TRUE(c.groups[g].min == want.min && c.groups[g].max == want.max) << "group " << g;
     }
 }
 
@@ -152,4 +166,65 @@ TEST(TriangleFrame, KeptFrameGivesTheSameBitsAsComputingIt) {
         }
     }
     EXPECT_GT(compared, 10000);
+}
+
+TEST(FrameCache, GivesEachTrianglesOwnFrameWhateverSharesItsSlot) {
+    JETRACE_SEEDED_RNG(rng);
+    // More triangles than slots, asked for in a random order, so that slots
+    // are shared and refilled.
+    std::vector<Triangle> triangles;
+    for (int k = 0; k < 3 * static_cast<int>(FrameCache::kSlots); ++k) {
+        const Vec3 at = random_in_box(rng, Vec3(-100, -10, -100), Vec3(100, 10, 100));
+        const Triangle t = Triangle::make(at, at + random_unit(rng) * 3.0, at + random_unit(rng) * 3.0);
+        if (!t.degenerate) triangles.push_back(t);
+    }
+    FrameCache cache;
+    for (int q = 0; q < 5000; ++q) {
+        const auto i = static_cast<std::uint32_t>(uniform(rng, 0, static_cast<double>(triangles.size())));
+        const std::uint32_t index = std::min<std::uint32_t>(i, static_cast<std::uint32_t>(triangles.size() - 1));
+        const TriangleFrame want = TriangleFrame::of(triangles[index]);
+        const TriangleFrame& got = cache.get(index, triangles[index]);
+        ASSERT_EQ(std::memcmp(&want, &got, sizeof want), 0) << "triangle " << index << " query " << q;
+    }
+}
+
+TEST(ClosestPointWithin, RejectsOnlyTrianglesBeyondReach) {
+    JETRACE_SEEDED_RNG(rng);
+    int rejected_near_plane = 0, accepted = 0;  // rejected_near_plane: by plane and edge together
+    for (int k = 0; k < 300; ++k) {
+        const double size = std::exp(uniform(rng, std::log(0.05), std::log(60.0)));
+        const Vec3 at = random_in_box(rng, Vec3(-1000, -100, -1000), Vec3(1000, 100, 1000));
+        Triangle t = Triangle::make(at + random_unit(rng) * size, at + random_unit(rng) * size,
+                                    at + random_unit(rng) * size);
+        if (k % 10 == 0) t = Triangle::make(at, at + Vec3(size, 0, 0), at + Vec3(size, 1e-5 * size, 0));  // sliver
+        if (t.degenerate) continue;
+        const Vec3 n = t.normal();
+        for (int q = 0; q < 200; ++q) {
+            // Over the triangle's plane near it, as a car over a mesh is:
+            // within reach of the plane and of every edge's line, often not
+            // of the triangle.
+            const double reach = uniform(rng, 0.01, 2 * size + 3);
+            const Vec3 p = random_on_triangle(rng, t) + random_unit(rng) * uniform(rng, 0, 2 * reach) +
+                           n * uniform(rng, -reach, reach);
+            ClosestPoint got;
+            const bool within = closest_point_within(p, t, reach, got);
+            const ClosestPoint exact = closest_point_on_triangle(p, t);
+            const double d = std::sqrt((p - exact.point).squaredNorm());
+            if (!within) {
+                ASSERT_GT(d, reach) << "triangle " << k << " point " << str(p) << ": rejected within reach";
+                // Within reach of the plane and of every edge's line: only
+                // the test on both together can reject it.
+                const bool near_lines = (p - t.a).dot(t.inward(0, n)) >= -reach &&
+                                        (p - t.b).dot(t.inward(1, n)) >= -reach &&
+                                        (p - t.c).dot(t.inward(2, n)) >= -reach;
+                if (std::abs((p - t.a).dot(n)) <= reach && near_lines) ++rejected_near_plane;
+                continue;
+            }
+            ++accepted;
+            ASSERT_EQ(std::memcmp(got.point.data(), exact.point.data(), sizeof(double) * 3), 0) << "triangle " << k;
+            ASSERT_EQ(got.region, exact.region) << "triangle " << k;
+        }
+    }
+    EXPECT_GT(rejected_near_plane, 1000) << "the edge-and-plane rejection should fire";
+    EXPECT_GT(accepted, 1000);
 }

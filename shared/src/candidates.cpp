@@ -1,30 +1,33 @@
 #include "jetrace/candidates.hpp"
 
 namespace jetrace {
-namespace {
 
-// out[j]: the box around in[j * per] to in[(j + 1) * per - 1] (the last may
-// hold fewer).
-void boxes_of_runs(const std::vector<Aabb>& in, std::size_t per, std::vector<Aabb>& out) {
-    out.clear();
-    for (std::size_t k = 0; k < in.size(); k += per) {
-        Aabb run = in[k];
-        const std::size_t end = std::min(in.size(), k + per);
-        for (std::size_t i = k + 1; i < end; ++i) {
-            run.min = run.min.cwiseMin(in[i].min);
-            run.max = run.max.cwiseMax(in[i].max);
+std::size_t Candidates::touching_from(std::size_t k, const Vec3& p, double reach_m) const {
+    const double h = reach_m + kBoxSlack_m;
+    const double h2 = h * h;
+    const double px = p.x(), py = p.y(), pz = p.z();
+    const std::size_t n = boxes.size();
+    std::uint32_t* out = found.data();
+    std::size_t count = 0;
+    while (k < n) {
+        const std::size_t group = k >> kGroupShift;
+        const std::size_t group_end = std::min(n, (group + 1) << kGroupShift);
+        if (box_distance2(groups[group], px, py, pz) <= h2) {
+            while (k < group_end) {
+                const std::size_t run = k >> kRunShift;
+                const std::size_t end = std::min(n, (run + 1) << kRunShift);
+                if (box_distance2(runs[run], px, py, pz) <= h2) {
+                    for (; k < end; ++k) {
+                        out[count] = static_cast<std::uint32_t>(k);
+                        count += box_distance2(boxes[k], px, py, pz) <= h2 ? 1 : 0;
+                    }
+                }
+                k = end;
+            }
         }
-        out.push_back(run);
+        k = group_end;
     }
-}
-
-}  // namespace
-
-void Candidates::finish_gather() {
-    frames.resize(boxes.size());
-    framed.assign(boxes.size(), 0);
-    boxes_of_runs(boxes, kRunLength, runs);
-    boxes_of_runs(runs, std::size_t{1} << (kGroupShift - kRunShift), groups);
+    return count;
 }
 
 }  // namespace jetrace

@@ -1,5 +1,6 @@
 #include "jetrace/geometry.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -143,6 +144,11 @@ ClosestPoint closest_on_edges(const Vec3& p, const Triangle& t) {
 
 namespace {
 
+// How far beyond reach a lower bound of the distance must be before
+// closest_point_within calls a triangle certainly farther (unit: m): far
+// above the rounding of the distances its callers compute.
+constexpr double kReachSlack_m = 1e-6;
+
 // closest_point_within's tests from the plane on; `inward(i)` gives edge i's
 // inward normal (computed when asked, or kept).
 template <class Inward>
@@ -162,8 +168,18 @@ bool closest_from_plane(const Vec3& p, const Triangle& t, const Vec3& n, Inward&
     if (ca < -reach_m) return false;
     // The face: the projection onto the plane (the common case, and the only
     // well-conditioned one for a sliver).
-    out = ab >= 0.0 && bc >= 0.0 && ca >= 0.0 ? ClosestPoint{p - n * h, TriRegion::face}
-                                              : closest_outside_face(p, t);
+    if (ab >= 0.0 && bc >= 0.0 && ca >= 0.0) {
+        out = ClosestPoint{p - n * h, TriRegion::face};
+        return true;
+    }
+    // Outside an edge by `e` (in the plane) and off the plane by h, p is at
+    // least sqrt(h^2 + e^2) from the triangle, which lies inside every
+    // edge. Beyond reach by more than kReachSlack_m, certainly farther: no
+    // caller's rounding of the exact distance could bring it within reach.
+    const double e = -std::min({ab, bc, ca});
+    const double limit = reach_m + kReachSlack_m;
+    if (h * h + e * e > limit * limit) return false;
+    out = closest_outside_face(p, t);
     return true;
 }
 

@@ -47,6 +47,10 @@ void gather_candidates(const TrackQuery& q, const Vec3& center, double radius_m,
     out.groups.clear();
     out.all = q.broadphase == Broadphase::brute_force;
     if (out.all) return;
+    if (out.track != &q.track) {  // kept frames belong to one track
+        out.frames.clear();
+        out.track = &q.track;
+    }
     const Vec3 slack(kBoxSlack_m, kBoxSlack_m, kBoxSlack_m);
     const Aabb query{out.region.min - slack, out.region.max + slack};
     // The triangles whose boxes (the grid's, which contain their bounds)
@@ -72,8 +76,7 @@ void gather_candidates(const TrackQuery& q, const Vec3& center, double radius_m,
     // ascending runs, merged; a triangle met in two cells is kept once.
     merge_runs(kept, out.merge_scratch);
     kept.erase(std::unique(kept.begin(), kept.end()), kept.end());
-    for (const std::uint32_t t : out.triangles) out.boxes.push_back(q.grid.box(t).aabb());
-    out.finish_gather();
+    out.finish_gather([&](std::uint32_t t) -> const FloatBox& { return q.grid.box(t); });
 }
 
 GatherReach gather_reach(const PhysicsSettings& s, GatherFor why, double motion_m) {
@@ -121,30 +124,38 @@ void for_each(const Track& track, const Candidates& cand, F&& f) {
     }
 }
 
-// The same over the candidates that may_touch(p, reach_m) accepts.
+// Calls f(triangle, k, index) for each candidate from the k-th on that
+// may_touch(p, reach_m) accepts, in order (k: its place among the
+// candidates, index: the triangle's); under brute force every triangle from
+// the k-th on. Stops when f returns false.
 template <class F>
-void for_each_touching(const Track& track, const Candidates& cand, const Vec3& p, double reach_m, F&& f) {
+void for_each_touching(const Track& track, const Candidates& cand, std::size_t k, const Vec3& p, double reach_m,
+                       F&& f) {
     if (cand.all) {
-        for_each(track, cand, f);
+        for (; k < track.triangles.size(); ++k) {
+            if (!f(track.triangles[k], k, static_cast<std::uint32_t>(k))) return;
+        }
         return;
     }
-    const std::size_t n = cand.triangles.size();
-    for (std::size_t k = 0; (k = cand.next_touching(k, p, reach_m)) < n; ++k) {
-        if (!f(track.triangles[cand.triangles[k]], k)) return;
+    const std::size_t count = cand.touching_from(k, p, reach_m);
+    for (std::size_t i = 0; i < count; ++i) {
+        const std::size_t at = cand.found[i];
+        const std::uint32_t index = cand.triangles[at];
+        if (!f(track.triangles[index], at, index)) return;
     }
 }
 
-// closest_point_within for the k-th candidate `t`, with its kept frame.
-bool closest_within(const Candidates& cand, std::size_t k, const Triangle& t, const Vec3& p, double reach_m,
+// closest_point_within for triangle `index` (`t`), with its kept frame.
+bool closest_within(const Candidates& cand, std::uint32_t index, const Triangle& t, const Vec3& p, double reach_m,
                     ClosestPoint& out) {
     if (cand.all || t.degenerate) return closest_point_within(p, t, reach_m, out);
-    return closest_point_within(p, t, cand.frame(k, t), reach_m, out);
+    return closest_point_within(p, t, cand.frames.get(index, t), reach_m, out);
 }
 
-// The k-th candidate's unit normal (Triangle::normal(), kept).
-Vec3 unit_normal(const Candidates& cand, std::size_t k, const Triangle& t) {
+// Triangle `index`'s unit normal (Triangle::normal(), kept).
+Vec3 unit_normal(const Candidates& cand, std::uint32_t index, const Triangle& t) {
     if (cand.all || t.degenerate) return t.normal();
-    return cand.frame(k, t).normal;
+    return cand.frames.get(index, t).normal;
 }
 
 // Direction from the surface point `q` to the centre `p`. Inside the face
@@ -153,7 +164,7 @@ Vec3 unit_normal(const Candidates& cand, std::size_t k, const Triangle& t) {
 // by the rounding of the closest point. If the centre lies on the triangle,
 // the face normal on the side the car came from (`came_from`; nullptr: p +
 // the normal, the normal's own side).
-Vec3 contact_normal(const Candidates& cand, std::size_t k, const Triangle& t, const ClosestPoint& cp, const Vec3& p,
+Vec3 contact_normal(const Candidates& cand, std::uint32_t k, const Triangle& t, const ClosestPoint& cp, const Vec3& p,
                     double dist, const Vec3* came_from) {
     const Vec3& q = cp.point;
     if (dist > 1e-9) {
@@ -221,11 +232,11 @@ void find_contacts(const TrackQuery& q, const Candidates& cand, const Vec3& cent
     out.clear();
     const double reach = q.physics.car_radius_m + q.physics.contact_skin_m;
     const double reach2 = reach * reach;
-    for_each_touching(q.track, cand, center, reach, [&](const Triangle& t, std::size_t k) {
+    for_each_touching(q.track, cand, 0, center, reach, [&](const Triangle& t, std::size_t, std::uint32_t index) {
         ClosestPoint cp;
-        if (!closest_within(cand, k, t, center, reach, cp)) return true;
+        if (!closest_within(cand, index, t, center, reach, cp)) return true;
         const double d2 = (center - cp.point).squaredNorm();
-        if (d2 < reach2) out.add(contact_normal(cand, k, t, cp, center, std::sqrt(d2), nullptr));
+        if (d2 < reach2) out.add(contact_normal(cand, index, t, cp, center, std::sqrt(d2), nullptr));
         return true;
     });
 }
@@ -260,40 +271,43 @@ int push_pass(const TrackQuery& q, const SphereMotion& car, Candidates& cand, bo
     // Contacts only matter while the pass has pushed nothing; after a push
     // only touching triangles do, and the cheaper reach r rejects the rest.
     double reach = collect ? query_radius : r;
-    std::size_t k = 0;
-    std::size_t end = cand.all ? track.triangles.size() : cand.triangles.size();  // again after a gather
-    while ((k = cand.next_touching(k, position, reach)) < end) {
-        const std::size_t at = k++;
-        const std::uint32_t index = cand.all ? static_cast<std::uint32_t>(at) : cand.triangles[at];
-        const Triangle& t = track.triangles[index];
-        ClosestPoint cp;
-        if (!closest_within(cand, at, t, position, reach, cp)) continue;
-        const double d2 = (position - cp.point).squaredNorm();
-        // Touching is decided exactly as a pass at reach r decides it (its
-        // cheap rejections included, which rounding can tip at a distance of
-        // r), so that the push never depends on the reach this pass gathers
-        // contacts at, that is, on resolve()'s hint.
-        bool touching = d2 <= r2;
-        if (touching && reach != r) {
-            ClosestPoint same_point;
-            touching = cand.may_touch(at, position, r) && closest_within(cand, at, t, position, r, same_point);
-        }
-        if (!touching) {
-            if (collect && pushes == 0 && d2 < query2) {
-                contacts.add(contact_normal(cand, at, t, cp, position, std::sqrt(d2), nullptr));
+    std::size_t k = 0;  // where the pass goes on after a push
+    for (;;) {
+        bool pushed = false;
+        for_each_touching(track, cand, k, position, reach, [&](const Triangle& t, std::size_t at, std::uint32_t index) {
+            ClosestPoint cp;
+            if (!closest_within(cand, index, t, position, reach, cp)) return true;
+            const double d2 = (position - cp.point).squaredNorm();
+            // Touching is decided exactly as a pass at reach r decides it
+            // (its cheap rejections included, which rounding can tip at a
+            // distance of r), so that the push never depends on the reach
+            // this pass gathers contacts at, that is, on resolve()'s hint.
+            bool touching = d2 <= r2;
+            if (touching && reach != r) {
+                ClosestPoint same_point;
+                touching = cand.may_touch(at, position, r) && closest_within(cand, index, t, position, r, same_point);
             }
-            continue;
-        }
-        reach = r;
-        const Vec3 n = contact_normal(cand, at, t, cp, position, std::sqrt(d2), &car.from);
-        position = cp.point + n * target;
-        const double vn = velocity.dot(n);
-        if (vn < 0.0) velocity -= n * vn;  // inelastic: no velocity into the surface
-        ++pushes;
+            if (!touching) {
+                if (collect && pushes == 0 && d2 < query2) {
+                    contacts.add(contact_normal(cand, index, t, cp, position, std::sqrt(d2), nullptr));
+                }
+                return true;
+            }
+            reach = r;
+            const Vec3 n = contact_normal(cand, index, t, cp, position, std::sqrt(d2), &car.from);
+            position = cp.point + n * target;
+            const double vn = velocity.dot(n);
+            if (vn < 0.0) velocity -= n * vn;  // inelastic: no velocity into the surface
+            ++pushes;
+            k = at + 1;
+            pushed = true;
+            return false;  // the pass goes on after this triangle, from where the car now is
+        });
+        if (!pushed) break;
+        const std::uint32_t last = cand.all ? static_cast<std::uint32_t>(k - 1) : cand.triangles[k - 1];
         if (keep_covered(q, position, gather_reach(s, GatherFor::contacts), cand) && !cand.all) {
-            k = static_cast<std::size_t>(std::upper_bound(cand.triangles.begin(), cand.triangles.end(), index) -
+            k = static_cast<std::size_t>(std::upper_bound(cand.triangles.begin(), cand.triangles.end(), last) -
                                          cand.triangles.begin());
-            end = cand.triangles.size();
         }
         if (s.push_out == PushOut::first_contact) break;
     }
@@ -347,7 +361,7 @@ ResolveStats resolve(const TrackQuery& q, const SphereMotion& car, Candidates& c
     }
     if (stats.passes == s.resolver_passes) {
         // Did the last pass leave the car clear?
-        for_each_touching(q.track, cand, position, r, [&](const Triangle& t, std::size_t) {
+        for_each_touching(q.track, cand, 0, position, r, [&](const Triangle& t, std::size_t, std::uint32_t) {
             ClosestPoint cp;
             if (!closest_point_within(position, t, r, cp)) return true;
             if ((position - cp.point).squaredNorm() < r2) {

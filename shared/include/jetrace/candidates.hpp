@@ -4,11 +4,44 @@
 #include "jetrace/geometry.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
 namespace jetrace {
+
+struct Track;
+
+/// Each triangle's TriangleFrame once computed, for the triangles a car
+/// tests step after step: the frame is what a closest-point test costs
+/// (four square roots and twelve divisions). Direct-mapped by triangle
+/// index and kept across gathers; a cache of a pure function of the
+/// triangle, so it never changes a result.
+class FrameCache {
+public:
+    static constexpr int kSlotBits = 6;
+    static constexpr std::size_t kSlots = std::size_t{1} << kSlotBits;
+
+    FrameCache() { clear(); }
+    void clear() { keys_.fill(kNone); }
+    /// The frame of triangle `index` (`t`, not degenerate).
+    const TriangleFrame& get(std::uint32_t index, const Triangle& t) {
+        // Fibonacci hashing: neighbours in index (a strip) and a row apart
+        // (a grid mesh) land in different slots.
+        const std::size_t slot = static_cast<std::uint32_t>(index * 0x9E3779B1u) >> (32 - kSlotBits);
+        if (keys_[slot] != index) {
+            frames_[slot] = TriangleFrame::of(t);
+            keys_[slot] = index;
+        }
+        return frames_[slot];
+    }
+
+private:
+    static constexpr std::uint32_t kNone = ~std::uint32_t{0};  // above any triangle index
+    std::array<std::uint32_t, kSlots> keys_;
+    std::array<TriangleFrame, kSlots> frames_;
+};
 
 /// Slack added to every bounding-box test of a candidate (unit: m), so that
 /// rounding can never make a box test reject a triangle the exact distance
@@ -69,25 +102,43 @@ struct Candidates {
     /// The gather's scratch (kept to keep its capacity).
     MergeScratch merge_scratch;
 
-    /// Each candidate's TriangleFrame once computed (framed[k] != 0): the
-    /// triangles under a car are tested in step after step, and the frame
-    /// is what costs (four square roots and twelve divisions). A cache of a
-    /// pure function of the triangle, so `mutable`.
-    mutable std::vector<TriangleFrame> frames;
-    mutable std::vector<std::uint8_t> framed;
+    /// Frames of the triangles the scans test (see FrameCache), kept
+    /// across gathers while the candidates come from the same `track`.
+    mutable FrameCache frames;
+    const Track* track = nullptr;
 
-    /// The k-th candidate's frame (`t` is that triangle, not degenerate).
-    const TriangleFrame& frame(std::size_t k, const Triangle& t) const {
-        if (framed[k] == 0) {
-            frames[k] = TriangleFrame::of(t);
-            framed[k] = 1;
+    /// The end of a gather: fills `boxes` from box_of(i) (the FloatBox of
+    /// triangle i, for each of `triangles`), and `runs` and `groups`
+    /// around them, in one pass (in floats, exact, then widened to doubles
+    /// like the boxes: the same values as the boxes' own min and max).
+    template <class BoxOf>
+    void finish_gather(BoxOf&& box_of) {
+        const std::size_t n = triangles.size();
+        boxes.resize(n);
+        found.resize(n);
+        runs.clear();
+        groups.clear();
+        constexpr std::size_t kRunsPerGroup = std::size_t{1} << (kGroupShift - kRunShift);
+        FloatBox run, group;
+        for (std::size_t k = 0; k < n; ++k) {
+            const FloatBox& b = box_of(triangles[k]);
+            boxes[k] = b.aabb();
+            if (k % kRunLength == 0) {
+                run = b;
+            } else {
+                run.expand(b);
+            }
+            if (k % kRunLength != kRunLength - 1 && k + 1 != n) continue;
+            const std::size_t r = k / kRunLength;  // the run just ended
+            runs.push_back(run.aabb());
+            if (r % kRunsPerGroup == 0) {
+                group = run;
+            } else {
+                group.expand(run);
+            }
+            if (r % kRunsPerGroup == kRunsPerGroup - 1 || k + 1 == n) groups.push_back(group.aabb());
         }
-        return frames[k];
     }
-
-    /// Fills `runs` and `groups` from `boxes` and forgets the frames: the
-    /// end of a gather.
-    void finish_gather();
 
     /// True if a sphere of `radius_m` at `p` is inside the gathered region.
     bool covers(const Vec3& p, double radius_m) const {
@@ -107,36 +158,18 @@ struct Candidates {
         const double h = reach_m + kBoxSlack_m;
         return box_distance2(boxes[k], p.x(), p.y(), p.z()) <= h * h;
     }
-    /// The first candidate from the k-th on that may_touch(p, reach_m)
-    /// accepts, or the candidate count if none; k itself under brute force.
-    /// A run whose box is beyond reach is skipped whole: no box inside it
+    /// Every candidate from the k-th on that may_touch(p, reach_m) accepts,
+    /// in ascending order: their places are found[0, count), count
+    /// returned (valid until the next query). Not for brute force. A group
+    /// or run whose box is beyond reach is skipped whole: no box inside it
     /// is nearer (box_distance2 is monotonic), so the answer is exactly the
-    /// one-by-one scan's.
-    std::size_t next_touching(std::size_t k, const Vec3& p, double reach_m) const {
-        if (all) return k;
-        const double h = reach_m + kBoxSlack_m;
-        const double h2 = h * h;
-        const double px = p.x(), py = p.y(), pz = p.z();
-        const std::size_t n = boxes.size();
-        while (k < n) {
-            const std::size_t group = k >> kGroupShift;
-            const std::size_t group_end = std::min(n, (group + 1) << kGroupShift);
-            if (box_distance2(groups[group], px, py, pz) <= h2) {
-                while (k < group_end) {
-                    const std::size_t run = k >> kRunShift;
-                    const std::size_t end = std::min(n, (run + 1) << kRunShift);
-                    if (box_distance2(runs[run], px, py, pz) <= h2) {
-                        for (; k < end; ++k) {
-                            if (box_distance2(boxes[k], px, py, pz) <= h2) return k;
-                        }
-                    }
-                    k = end;
-                }
-            }
-            k = group_end;
-        }
-        return n;
-    }
+    /// one-by-one test's.
+    std::size_t touching_from(std::size_t k, const Vec3& p, double reach_m) const;
+
+    /// What touching_from() returns (sized at the gather, so that a query
+    /// writes without a branch on each test).
+    mutable std::vector<std::uint32_t> found;
+
     /// False if the k-th candidate's box is farther than `reach_m` from `p`
     /// along an axis: it cannot come within `reach_m` of `p`. The sweep's
     /// test (its hits are not decided by a closest distance alone).

@@ -40,6 +40,13 @@ struct FloatBox {
     Aabb aabb() const {
         return {Vec3(double{lo[0]}, double{lo[1]}, double{lo[2]}), Vec3(double{hi[0]}, double{hi[1]}, double{hi[2]})};
     }
+    /// Grows to the smallest box holding this one and `o` (exact).
+    void expand(const FloatBox& o) {
+        for (int i = 0; i < 3; ++i) {
+            lo[i] = lo[i] < o.lo[i] ? lo[i] : o.lo[i];
+            hi[i] = hi[i] > o.hi[i] ? hi[i] : o.hi[i];
+        }
+    }
 };
 
 /// A track triangle with the data the resolver needs precomputed.
@@ -109,8 +116,12 @@ struct ClosestPoint {
 ClosestPoint closest_point_on_triangle(const Vec3& p, const Triangle& t);
 
 /// The same, unless `t` is certainly farther than `reach_m` from `p` (beyond
-/// its plane, or outside one of its edges, by more than reach_m): then false
-/// and `out` is untouched. The cheap test for a triangle near a car.
+/// its plane, or outside one of its edges, by more than reach_m, or off the
+/// plane by h and outside an edge by e with h^2 + e^2 beyond reach by more
+/// than a micrometre): then false and `out` is untouched. The cheap test for
+/// a triangle near a car; a car over a fine mesh has several triangles
+/// within reach of their plane and of every edge's line, and only the last
+/// test rejects those not under it.
 bool closest_point_within(const Vec3& p, const Triangle& t, double reach_m, ClosestPoint& out);
 
 /// The same with `t`'s frame (TriangleFrame::of(t), `t` not degenerate)
