@@ -70,6 +70,9 @@ struct CarScratch {
 };
 
 /// Per-step scratch owned by the caller; results never depend on its contents.
+/// It belongs to one Scene: its candidates and kept frames name that
+/// scene's triangles, so stepping another scene (one made in the same
+/// place included) needs fresh scratch (StepScratch{}).
 struct StepScratch {
     /// One per car slot.
     std::vector<CarScratch> cars;
