@@ -196,7 +196,14 @@ TEST(ClosestPointWithin, RejectsOnlyTrianglesBeyondReach) {
         const Vec3 at = random_in_box(rng, Vec3(-1000, -100, -1000), Vec3(1000, 100, 1000));
         Triangle t = Triangle::make(at + random_unit(rng) * size, at + random_unit(rng) * size,
                                     at + random_unit(rng) * size);
-        if (k % 10 == 0) t = Triangle::make(at, at + Vec3(size, 0, 0), at + Vec3(size, 1e-5 * size, 0));  // sliver
+        if (k % 10 == 0) {
+            // A sliver at an angle to the axes, height 1e-9 to 1e-4 of its
+            // length: its computed normal is as poor as they come.
+            const Vec3 along = random_unit(rng);
+            const Vec3 across = along.cross(random_unit(rng)).normalized();
+            const double height = std::exp(uniform(rng, std::log(1e-9), std::log(1e-4))) * size;
+            t = Triangle::make(at, at + along * size, at + along * (0.5 * size) + across * height);
+        }
         if (t.degenerate) continue;
         const Vec3 n = t.normal();
         for (int q = 0; q < 200; ++q) {
@@ -209,9 +216,11 @@ TEST(ClosestPointWithin, RejectsOnlyTrianglesBeyondReach) {
             ClosestPoint got;
             const bool within = closest_point_within(p, t, reach, got);
             const ClosestPoint exact = closest_point_on_triangle(p, t);
-            const double d = std::sqrt((p - exact.point).squaredNorm());
+            // What callers compare: the squared distance against reach^2.
+            const double d2 = (p - exact.point).squaredNorm();
             if (!within) {
-                ASSERT_GT(d, reach) << "triangle " << k << " point " << str(p) << ": rejected within reach";
+                ASSERT_GT(d2, reach * reach) << "triangle " << k << (t.thin ? " (thin)" : "") << " point " << str(p)
+                                             << " reach " << reach << ": rejected within reach";
                 // Within reach of the plane and of every edge's line: only
                 // the test on both together can reject it.
                 const bool near_lines = (p - t.a).dot(t.inward(0, n)) >= -reach &&
@@ -227,4 +236,23 @@ TEST(ClosestPointWithin, RejectsOnlyTrianglesBeyondReach) {
     }
     EXPECT_GT(rejected_near_plane, 1000) << "the edge-and-plane rejection should fire";
     EXPECT_GT(accepted, 1000);
+}
+
+TEST(ClosestPointWithin, KeepsASliverWithinReach) {
+    // A sliver (height about 2e-10 of its length) whose computed normal is
+    // off by enough that the plane-and-edge lower bound overshoots the
+    // distance by micrometres: the point is within reach (by about 1e-14 m)
+    // and must not be rejected.
+    const Triangle t = Triangle::make(Vec3(-970.3963625692855, -4.305578389483884, -665.7665279558566),
+                                      Vec3(-956.0825310796574, -40.98860557198981, -688.9914068730758),
+                                      Vec3(-960.8251050987143, -28.834489313130053, -681.2963527825094));
+    ASSERT_FALSE(t.degenerate);
+    ASSERT_TRUE(t.thin);
+    const Vec3 p(-961.338177959928, -28.14028879745202, -681.8199828808672);
+    const double reach = 0.9029648765833164;
+    const ClosestPoint exact = closest_point_on_triangle(p, t);
+    ASSERT_LE((p - exact.point).squaredNorm(), reach * reach);
+    ClosestPoint got, with_frame;
+    EXPECT_TRUE(closest_point_within(p, t, reach, got));
+    EXPECT_TRUE(closest_point_within(p, t, TriangleFrame::of(t), reach, with_frame));
 }

@@ -1,8 +1,11 @@
 #include "jetrace/candidates.hpp"
 
+#include <cassert>
+
 namespace jetrace {
 
 std::size_t Candidates::touching_from(std::size_t k, const Vec3& p, double reach_m) const {
+    assert(!all && found.size() >= boxes.size());
     const double h = reach_m + kBoxSlack_m;
     const double h2 = h * h;
     const double px = p.x(), py = p.y(), pz = p.z();

@@ -176,9 +176,11 @@ bool closest_from_plane(const Vec3& p, const Triangle& t, const Vec3& n, Inward&
     // least sqrt(h^2 + e^2) from the triangle, which lies inside every
     // edge. Beyond reach by more than kReachSlack_m, certainly farther: no
     // caller's rounding of the exact distance could bring it within reach.
+    // Not for a sliver: its computed normal can be off by enough to move a
+    // point metres away by micrometres.
     const double e = -std::min({ab, bc, ca});
     const double limit = reach_m + kReachSlack_m;
-    if (h * h + e * e > limit * limit) return false;
+    if (!t.thin && h * h + e * e > limit * limit) return false;
     out = closest_outside_face(p, t);
     return true;
 }

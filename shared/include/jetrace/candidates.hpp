@@ -27,8 +27,10 @@ public:
     void clear() { keys_.fill(kNone); }
     /// The frame of triangle `index` (`t`, not degenerate).
     const TriangleFrame& get(std::uint32_t index, const Triangle& t) {
-        // Fibonacci hashing: neighbours in index (a strip) and a row apart
-        // (a grid mesh) land in different slots.
+        // Fibonacci hashing spreads neighbouring indices over the slots.
+        // Some strides share a slot (about one in 32: a grid mesh of such
+        // a row length, or more than 64 triangles in use, evicts frames
+        // that are then computed again), which costs time, never a result.
         const std::size_t slot = static_cast<std::uint32_t>(index * 0x9E3779B1u) >> (32 - kSlotBits);
         if (keys_[slot] != index) {
             frames_[slot] = TriangleFrame::of(t);

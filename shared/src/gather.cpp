@@ -1,0 +1,108 @@
+// Gathering a car's candidates from the grid, and the policy that decides
+// how far they reach (jetrace/resolver.hpp).
+#include "jetrace/resolver.hpp"
+
+#include <algorithm>
+
+namespace jetrace {
+
+namespace {
+
+// Sorts `v`, made of ascending runs, by merging neighbouring runs pass after
+// pass (the scratch vectors: the caller's, to keep their capacity).
+void merge_runs(std::vector<std::uint32_t>& v, MergeScratch& scratch) {
+    std::vector<std::size_t>& bounds = scratch.starts;  // run starts, then the end
+    std::vector<std::size_t>& merged = scratch.next_starts;
+    bounds.assign(1, 0);
+    for (std::size_t i = 1; i < v.size(); ++i) {
+        if (v[i] < v[i - 1]) bounds.push_back(i);
+    }
+    bounds.push_back(v.size());
+    while (bounds.size() > 2) {
+        scratch.values.resize(v.size());
+        merged.assign(1, 0);
+        for (std::size_t r = 0; r + 1 < bounds.size(); r += 2) {
+            const auto at = [&](std::size_t i) { return v.begin() + static_cast<std::ptrdiff_t>(bounds[i]); };
+            const std::size_t last = std::min(r + 2, bounds.size() - 1);
+            std::merge(at(r), at(r + 1), at(r + 1), at(last),
+                       scratch.values.begin() + static_cast<std::ptrdiff_t>(bounds[r]));
+            merged.push_back(bounds[last]);
+        }
+        v.swap(scratch.values);
+        bounds.swap(merged);
+    }
+}
+
+}  // namespace
+
+void gather_candidates(const TrackQuery& q, const Vec3& center, double radius_m, Candidates& out) {
+    out.region = Aabb::around(center, radius_m);
+    out.region.min += out.lookahead.cwiseMin(Vec3::Zero());
+    out.region.max += out.lookahead.cwiseMax(Vec3::Zero());
+    out.triangles.clear();
+    out.boxes.clear();
+    out.runs.clear();
+    out.groups.clear();
+    out.all = q.broadphase == Broadphase::brute_force;
+    if (out.all) return;
+    if (out.track != &q.track) {  // kept frames belong to one track
+        out.frames.clear();
+        out.track = &q.track;
+    }
+    const Vec3 slack(kBoxSlack_m, kBoxSlack_m, kBoxSlack_m);
+    const Aabb query{out.region.min - slack, out.region.max + slack};
+    // The triangles whose boxes (the grid's, which contain their bounds)
+    // reach the query: the grid reports every triangle bucketed in the
+    // cells it touches (once per cell), and its box, not the triangle, is
+    // read to filter them (24 bytes a triangle, in triangle order, against
+    // the triangle's 80).
+    // Written without a branch on the test (about a third are kept, in no
+    // predictable pattern): every one is stored, and the end moves past
+    // it only if kept.
+    std::vector<std::uint32_t>& kept = out.triangles;
+    std::size_t n = 0;
+    q.grid.for_each_bucketed(query, [&](std::uint32_t t) {
+        if (n == kept.size()) kept.resize(std::max<std::size_t>(64, 2 * kept.size()));
+        kept[n] = t;
+        n += q.grid.box(t).aabb().overlaps(query) ? 1 : 0;
+    });
+    kept.resize(n);
+    // Canonical order: ascending triangle index, the brute-force order. The
+    // result of a step then does not depend on which cells were visited or
+    // on how large the gathered region was, only on the geometry. Each
+    // cell's triangles come in ascending order, so the kept list is a few
+    // ascending runs, merged; a triangle met in two cells is kept once.
+    merge_runs(kept, out.merge_scratch);
+    kept.erase(std::unique(kept.begin(), kept.end()), kept.end());
+    out.finish_gather([&](std::uint32_t t) -> const FloatBox& { return q.grid.box(t); });
+}
+
+GatherReach gather_reach(const PhysicsSettings& s, GatherFor why, double motion_m) {
+    switch (why) {
+        case GatherFor::contacts: {
+            const double cover = s.car_radius_m + s.contact_skin_m;
+            return {cover, cover + kGatherMargin_m};
+        }
+        case GatherFor::sweep: {
+            const double cover = sweep_reach(s, motion_m);
+            return {cover, cover + kGatherMargin_m};
+        }
+        case GatherFor::step: break;
+    }
+    // A step: wide enough for the step's sweep too (its motion is about
+    // motion_m; kGatherMargin_m absorbs the step's acceleration), so that
+    // the sweep does not gather again.
+    const double reach = s.car_radius_m + s.contact_skin_m + motion_m + kGatherMargin_m;
+    const double gather =
+        s.collision_mode == CollisionMode::swept ? std::max(reach, sweep_reach(s, motion_m) + kGatherMargin_m) : reach;
+    return {reach - kGatherMargin_m, gather};
+}
+
+Vec3 gather_lookahead(const PhysicsSettings& s, const Vec3& velocity, double travel_m) {
+    Vec3 lookahead = velocity * (s.dt_s() * kGatherLookahead_steps);
+    const double ahead = travel_m * kGatherLookahead_steps;
+    if (ahead > kGatherLookaheadMax_m) lookahead *= kGatherLookaheadMax_m / ahead;
+    return lookahead;
+}
+
+}  // namespace jetrace
