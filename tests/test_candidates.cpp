@@ -33,18 +33,21 @@ namespace {
 
 // `n` boxes along a winding strip (neighbours near each other, as a mesh
 // lists them), every few a far one, so that runs are tight but not all.
-Candidates strip_of_boxes(std::mt19937_64& rng, std::size_t n) {
+// `exact` receives the boxes in doubles.
+Candidates strip_of_boxes(std::mt19937_64& rng, std::size_t n, std::vector<Aabb>* exact = nullptr) {
     Candidates c;
     std::vector<FloatBox> float_boxes;
-    Vec3 at = random_in_box(rng, Vec3(-50, -5, -50), Vec3(50, 5, 50));
+    const Vec3 start = random_in_box(rng, Vec3(-900, -50, -900), Vec3(900, 50, 900));
+    Vec3 at = start;
     for (std::size_t k = 0; k < n; ++k) {
         at += Vec3(uniform(rng, -1.5, 1.5), uniform(rng, -0.3, 0.3), uniform(rng, -1.5, 1.5));
-        const Vec3 centre = k % 13 == 7 ? random_in_box(rng, Vec3(-80, -20, -80), Vec3(80, 20, 80)) : at;
+        const Vec3 centre = k % 13 == 7 ? start + random_in_box(rng, Vec3(-80, -20, -80), Vec3(80, 20, 80)) : at;
         const Vec3 half(uniform(rng, 0, 1.5), uniform(rng, 0, 0.5), uniform(rng, 0, 1.5));
         c.triangles.push_back(static_cast<std::uint32_t>(k));
         float_boxes.push_back(FloatBox::around(Aabb{centre - half, centre + half}));
+        if (exact != nullptr) exact->push_back(float_boxes.back().aabb());
     }
-    c.finish_gather([&](std::uint32_t t) -> const FloatBox& { return float_boxes[t]; });
+    c.finish_gather(start, [&](std::uint32_t t) -> const FloatBox& { return float_boxes[t]; });
     return c;
 }
 
@@ -62,6 +65,12 @@ std::vector<std::size_t> by_runs(const Candidates& c, std::size_t from, const Ve
     return std::vector<std::size_t>(c.found.begin(), c.found.begin() + static_cast<std::ptrdiff_t>(count));
 }
 
+// A point near candidate k's box (absolute).
+Vec3 near_box(std::mt19937_64& rng, const Candidates& c, std::size_t k) {
+    const FloatBox b = c.boxes.relative(k);
+    return c.boxes.origin() + Vec3(b.lo[0], b.lo[1], b.lo[2]) + random_unit(rng) * uniform(rng, 0, 6);
+}
+
 }  // namespace
 
 TEST(Candidates, RunsFindExactlyWhatTheOneByOneTestFinds) {
@@ -73,8 +82,7 @@ TEST(Candidates, RunsFindExactlyWhatTheOneByOneTestFinds) {
         ASSERT_EQ(c.runs.size(), (n + Candidates::kRunLength - 1) / Candidates::kRunLength);
         ASSERT_EQ(c.groups.size(), (n + (std::size_t{1} << Candidates::kGroupShift) - 1) >> Candidates::kGroupShift);
         for (int q = 0; q < 400 && failures < 10; ++q) {
-            Vec3 p = c.boxes.empty() ? Vec3(0, 0, 0) : c.boxes[static_cast<std::size_t>(q) % n].min;
-            p += random_unit(rng) * uniform(rng, 0, 6);
+            Vec3 p = n == 0 ? Vec3(0, 0, 0) : near_box(rng, c, static_cast<std::size_t>(q) % n);
             if (q % 97 == 0) p.y() = std::numeric_limits<double>::quiet_NaN();
             const double reach = q % 5 == 0 ? uniform(rng, 0, 0.01) : uniform(rng, 0.5, 4);
             // From the start, or from a candidate on (a pass after a push).
@@ -92,26 +100,58 @@ TEST(Candidates, RunsFindExactlyWhatTheOneByOneTestFinds) {
     EXPECT_GT(found, 1000) << "queries should meet boxes";
 }
 
+// The packed test works in floats relative to the origin. It must accept
+// every box whose exact distance (in doubles) is within the reach plus
+// kBoxSlack_m, and may accept only a few micrometres more: anywhere on a
+// track (the strip lies up to 1 km from the world's origin and 100 m from
+// the boxes' origin), for reaches from none to a sweep's.
+TEST(Candidates, BoxTestsAcceptEveryBoxWithinReachAndLittleMore) {
+    JETRACE_SEEDED_RNG(rng);
+    std::vector<Aabb> exact;
+    const Candidates c = strip_of_boxes(rng, 400, &exact);
+    int misses = 0, extras = 0, near_edge = 0;
+    for (int q = 0; q < 20000 && misses < 10; ++q) {
+        const std::size_t k = static_cast<std::size_t>(q) % exact.size();
+        const double reach = q % 4 == 0 ? uniform(rng, 0, 0.05) : uniform(rng, 0.5, 40);
+        // Points at about the reach from the box, where rounding decides.
+        const Vec3 corner = q % 2 == 0 ? exact[k].min : exact[k].max;
+        const Vec3 p = corner + random_unit(rng) * (reach + uniform(rng, -1e-5, 1e-5));
+        const double d = std::sqrt(box_distance2(exact[k], p.x(), p.y(), p.z()));
+        const bool accepted = c.may_touch(k, p, reach);
+        const bool axes = c.may_reach_along_axes(k, c.box_query(p, reach));
+        const double h = reach + kBoxSlack_m;
+        near_edge += std::abs(d - h) < 1e-5 ? 1 : 0;
+        if (d <= h && !accepted) {
+            ++misses;
+            ADD_FAILURE() << "box " << k << " at " << d << " m rejected at reach " << reach;
+        }
+        if (d <= h && !axes) {
+            ++misses;
+            ADD_FAILURE() << "box " << k << " at " << d << " m rejected along the axes at reach " << reach;
+        }
+        if (accepted && d > h + 2e-5) ++extras;
+    }
+    EXPECT_EQ(misses, 0);
+    EXPECT_EQ(extras, 0) << "boxes accepted more than 20 micrometres beyond reach";
+    EXPECT_GT(near_edge, 1000) << "the points should test the rounding";
+}
+
 TEST(Candidates, RunBoxesAreTheBoxesAroundTheirCandidates) {
     JETRACE_SEEDED_RNG(rng);
     const Candidates c = strip_of_boxes(rng, 300);
-    // The smallest box around boxes[first, first + count).
+    // The smallest box around boxes[first, first + count), relative.
     const auto around = [&](std::size_t first, std::size_t count) {
-        Aabb b = c.boxes[first];
-        for (std::size_t k = first + 1; k < std::min(c.boxes.size(), first + count); ++k) {
-            b.min = b.min.cwiseMin(c.boxes[k].min);
-            b.max = b.max.cwiseMax(c.boxes[k].max);
-        }
+        FloatBox b = c.boxes.relative(first);
+        for (std::size_t k = first + 1; k < std::min(c.boxes.size(), first + count); ++k) b.expand(c.boxes.relative(k));
         return b;
     };
+    const auto same = [](const FloatBox& a, const FloatBox& b) { return std::memcmp(&a, &b, sizeof a) == 0; };
     for (std::size_t r = 0; r < c.runs.size(); ++r) {
-        const Aabb want = around(r * Candidates::kRunLength, Candidates::kRunLength);
-        EXPECT_TRUE(c.runs[r].min == want.min && c.runs[r].max == want.max) << "run " << r;
+        EXPECT_TRUE(same(c.runs.relative(r), around(r * Candidates::kRunLength, Candidates::kRunLength))) << "run " << r;
     }
     const std::size_t per_group = std::size_t{1} << Candidates::kGroupShift;
     for (std::size_t g = 0; g < c.groups.size(); ++g) {
-        const Aabb want = around(g * per_group, per_group);
-        EXPECT_TRUE(c.groups[g].min == want.min && c.groups[g].max == want.max) << "group " << g;
+        EXPECT_TRUE(same(c.groups.relative(g), around(g * per_group, per_group))) << "group " << g;
     }
 }
 

@@ -1,34 +1,37 @@
 #include "jetrace/candidates.hpp"
 
+#include <bit>
 #include <cassert>
 
 namespace jetrace {
 
 std::size_t Candidates::touching_from(std::size_t k, const Vec3& p, double reach_m) const {
     assert(!all && found.size() >= boxes.size());
-    const double h = reach_m + kBoxSlack_m;
-    const double h2 = h * h;
-    const double px = p.x(), py = p.y(), pz = p.z();
     const std::size_t n = boxes.size();
+    if (k >= n) return 0;
+    const BoxQuery q = boxes.query(p, reach_m);
     std::uint32_t* out = found.data();
     std::size_t count = 0;
-    while (k < n) {
-        const std::size_t group = k >> kGroupShift;
-        const std::size_t group_end = std::min(n, (group + 1) << kGroupShift);
-        if (box_distance2(groups[group], px, py, pz) <= h2) {
-            while (k < group_end) {
-                const std::size_t run = k >> kRunShift;
-                const std::size_t end = std::min(n, (run + 1) << kRunShift);
-                if (box_distance2(runs[run], px, py, pz) <= h2) {
-                    for (; k < end; ++k) {
-                        out[count] = static_cast<std::uint32_t>(k);
-                        count += box_distance2(boxes[k], px, py, pz) <= h2 ? 1 : 0;
-                    }
-                }
-                k = end;
+    const std::size_t first_run = k >> kRunShift;
+    const std::size_t first_group = k >> kGroupShift;
+    for (std::size_t g = first_group; g < groups.size(); ++g) {
+        if (!groups.within(g, q)) continue;
+        // The group's runs at once (those before the k-th candidate's masked).
+        std::uint32_t run_mask = runs.within8(g << kRunShift, q);
+        if (g == first_group) run_mask &= ~std::uint32_t{0} << (first_run - (g << kRunShift));
+        while (run_mask != 0) {
+            const std::size_t r = (g << kRunShift) + static_cast<std::size_t>(std::countr_zero(run_mask));
+            run_mask &= run_mask - 1;
+            std::uint32_t box_mask = boxes.within8(r << kRunShift, q);
+            if (r == first_run) box_mask &= ~std::uint32_t{0} << (k - (r << kRunShift));
+            // Every place stored, the end moved past those within reach (which
+            // of a run's are is not predictable: no branch on it).
+            const auto first = static_cast<std::uint32_t>(r << kRunShift);
+            for (std::uint32_t i = 0; i < kRunLength; ++i) {
+                out[count] = first + i;
+                count += (box_mask >> i) & 1u;
             }
         }
-        k = group_end;
     }
     return count;
 }

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace jetrace {
 
@@ -40,6 +41,15 @@ void for_each_touching(const Track& track, const Candidates& cand, std::size_t k
         return;
     }
     const std::size_t count = cand.touching_from(k, p, reach_m);
+    // The triangles are read one after another below, each after the last
+    // one's tests: on a track of millions (80 bytes each, far outside the
+    // caches) their loads would wait in turn. Asking for them all first
+    // lets them arrive together (a hint: it changes no result).
+    for (std::size_t i = 0; i < count; ++i) {
+        const char* bytes = reinterpret_cast<const char*>(&track.triangles[cand.triangles[cand.found[i]]]);
+        __builtin_prefetch(bytes);
+        __builtin_prefetch(bytes + sizeof(Triangle) - 1);
+    }
     for (std::size_t i = 0; i < count; ++i) {
         const std::size_t at = cand.found[i];
         const std::uint32_t index = cand.triangles[at];
@@ -103,9 +113,9 @@ int sweep_motion(const TrackQuery& q, const SphereMotion& car, Candidates& cand)
         // Every point of the swept sphere lies within |d|/2 + r of the
         // motion's midpoint.
         const Vec3 mid = p + d * 0.5;
-        const double swept_reach = 0.5 * std::sqrt(d.squaredNorm()) + r;
+        const BoxQuery swept = cand.box_query(mid, 0.5 * std::sqrt(d.squaredNorm()) + r);
         for_each(track, cand, [&](const Triangle& t, std::size_t k) {
-            if (cand.may_reach_along_axes(k, mid, swept_reach)) found = sweep_sphere_triangle(p, d, r, t, hit) || found;
+            if (cand.may_reach_along_axes(k, swept)) found = sweep_sphere_triangle(p, d, r, t, hit) || found;
             return true;
         });
         if (!found) {
@@ -176,6 +186,7 @@ int push_pass(const TrackQuery& q, const SphereMotion& car, Candidates& cand, bo
     std::size_t k = 0;  // where the pass goes on after a push
     for (;;) {
         bool pushed = false;
+        std::optional<BoxQuery> at_r;  // the box test at reach r where the car is (made once)
         for_each_touching(track, cand, k, position, reach, [&](const Triangle& t, std::size_t at, std::uint32_t index) {
             ClosestPoint cp;
             if (!closest_within(cand, index, t, position, reach, cp)) return true;
@@ -187,7 +198,8 @@ int push_pass(const TrackQuery& q, const SphereMotion& car, Candidates& cand, bo
             bool touching = d2 <= r2;
             if (touching && reach != r) {
                 ClosestPoint same_point;
-                touching = cand.may_touch(at, position, r) && closest_within(cand, index, t, position, r, same_point);
+                if (!at_r) at_r = cand.box_query(position, r);
+                touching = cand.may_touch(at, *at_r) && closest_within(cand, index, t, position, r, same_point);
             }
             if (!touching) {
                 if (collect && pushes == 0 && d2 < query2) {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "jetrace/geometry.hpp"
+#include "jetrace/packed_boxes.hpp"
 
 #include <algorithm>
 #include <array>
@@ -45,11 +46,6 @@ private:
     std::array<TriangleFrame, kSlots> frames_;
 };
 
-/// Slack added to every bounding-box test of a candidate (unit: m), so that
-/// rounding can never make a box test reject a triangle the exact distance
-/// test would accept. Far below the position quantum (1/1024 m).
-inline constexpr double kBoxSlack_m = 1e-6;
-
 /// Squared distance from `p` to box `b` (0 inside), each axis's gap
 /// rounded as computed; a NaN in `p` makes it NaN (and every `<=` false).
 /// Monotonic in the box: a box containing `b` is never farther.
@@ -71,29 +67,33 @@ struct MergeScratch {
 /// The triangles near a car: gathered, then reused by the following steps
 /// and every push-out pass while the car stays inside the gathered region.
 /// Each comes with its bounding box, so the narrow phase skips a far one
-/// by its distance to the box, and each run of kRunLength consecutive
-/// candidates with the box around theirs, so a scan skips a far run in
-/// one test. The vectors are scratch owned by the caller (no allocation
-/// once warm).
+/// by its distance to the box; each run of kRunLength consecutive
+/// candidates with the box around theirs, and each group of kRunLength
+/// runs with the box around those, so a scan skips a far run or group in
+/// one test. Boxes are packed eight to a test (PackedBoxes): a query tests
+/// a group's eight run boxes at once, then a run's eight boxes at once. The
+/// vectors are scratch owned by the caller (no allocation once warm).
 struct Candidates {
-    /// Candidates per run (see `runs`): a power of two.
+    /// Candidates per run (see `runs`): the boxes of one packed test.
     static constexpr std::size_t kRunShift = 3;
     static constexpr std::size_t kRunLength = std::size_t{1} << kRunShift;
-    /// Candidates per group (see `groups`): a power of two, a multiple of kRunLength.
-    static constexpr std::size_t kGroupShift = 6;
+    /// Candidates per group (see `groups`): kRunLength runs, one packed test.
+    static constexpr std::size_t kGroupShift = 2 * kRunShift;
+    static_assert(kRunLength == PackedBoxes::kLanes);
 
     /// Ascending triangle indices whose boxes (the grid's, each containing
     /// the triangle's bounds: UniformGrid::box) overlap `region`.
     std::vector<std::uint32_t> triangles;
-    /// Those boxes, in the same order.
-    std::vector<Aabb> boxes;
-    /// The box around boxes[j * kRunLength] to boxes[(j + 1) * kRunLength - 1]
+    /// Those boxes, in the same order (relative to the region's centre).
+    PackedBoxes boxes;
+    /// Run j: the box around boxes j * kRunLength to (j + 1) * kRunLength - 1
     /// (the last run may be shorter). Meshes list their triangles with
     /// neighbours near each other (strips, patches, rows), so a run's box is
-    /// small and a car over dense ground is within reach of few runs.
-    std::vector<Aabb> runs;
-    /// The same over runs of 2^kGroupShift candidates, tested first.
-    std::vector<Aabb> groups;
+    /// small and a car over dense ground is within reach of few runs. Padded
+    /// with empty boxes to whole groups.
+    PackedBoxes runs;
+    /// The same over groups of kRunLength runs, tested before their runs.
+    PackedBoxes groups;
     /// The box they were gathered for.
     Aabb region;
     /// Displacement the car will make over the next few steps at its
@@ -110,35 +110,35 @@ struct Candidates {
     const Track* track = nullptr;
 
     /// The end of a gather: fills `boxes` from box_of(i) (the FloatBox of
-    /// triangle i, for each of `triangles`), and `runs` and `groups`
-    /// around them, in one pass (in floats, exact, then widened to doubles
-    /// like the boxes: the same values as the boxes' own min and max).
+    /// triangle i, for each of `triangles`) relative to `origin`, and
+    /// `runs` and `groups` around them (in floats: exact), in one pass.
     template <class BoxOf>
-    void finish_gather(BoxOf&& box_of) {
+    void finish_gather(const Vec3& origin, BoxOf&& box_of) {
         const std::size_t n = triangles.size();
-        boxes.resize(n);
-        found.resize(n);
-        runs.clear();
-        groups.clear();
-        constexpr std::size_t kRunsPerGroup = std::size_t{1} << (kGroupShift - kRunShift);
+        const std::size_t run_count = (n + kRunLength - 1) >> kRunShift;
+        const std::size_t group_count = (run_count + kRunLength - 1) >> kRunShift;
+        boxes.reset(origin, n);
+        runs.reset(origin, run_count);  // padded to whole groups
+        groups.reset(origin, group_count);
+        found.resize(n + kRunLength);  // a query writes whole runs
         FloatBox run, group;
         for (std::size_t k = 0; k < n; ++k) {
-            const FloatBox& b = box_of(triangles[k]);
-            boxes[k] = b.aabb();
+            const FloatBox b = boxes.relative_to_origin(box_of(triangles[k]));
+            boxes.set_relative(k, b);
             if (k % kRunLength == 0) {
                 run = b;
             } else {
                 run.expand(b);
             }
             if (k % kRunLength != kRunLength - 1 && k + 1 != n) continue;
-            const std::size_t r = k / kRunLength;  // the run just ended
-            runs.push_back(run.aabb());
-            if (r % kRunsPerGroup == 0) {
+            const std::size_t r = k >> kRunShift;  // the run just ended
+            runs.set_relative(r, run);
+            if (r % kRunLength == 0) {
                 group = run;
             } else {
                 group.expand(run);
             }
-            if (r % kRunsPerGroup == kRunsPerGroup - 1 || k + 1 == n) groups.push_back(group.aabb());
+            if (r % kRunLength == kRunLength - 1 || k + 1 == n) groups.set_relative(r >> kRunShift, group);
         }
     }
 
@@ -151,37 +151,32 @@ struct Candidates {
     }
     /// False if the k-th candidate's box is farther than `reach_m` from `p`
     /// (the distance from `p` to the box, a lower bound of the distance to
-    /// the triangle inside it): the triangle cannot come within `reach_m`
-    /// of `p`. A car over dense ground passes the per-axis test
-    /// (may_reach_along_axes) for every triangle under its sphere's square
-    /// shadow; this one only for those under the part within reach.
-    bool may_touch(std::size_t k, const Vec3& p, double reach_m) const {
-        if (all) return true;
-        const double h = reach_m + kBoxSlack_m;
-        return box_distance2(boxes[k], p.x(), p.y(), p.z()) <= h * h;
-    }
+    /// the triangle inside it; PackedBoxes::within): the triangle cannot
+    /// come within `reach_m` of `p`. A car over dense ground passes the
+    /// per-axis test (may_reach_along_axes) for every triangle under its
+    /// sphere's square shadow; this one only for those under the part
+    /// within reach.
+    bool may_touch(std::size_t k, const Vec3& p, double reach_m) const { return may_touch(k, box_query(p, reach_m)); }
+    /// The same for a query made once for many candidates.
+    bool may_touch(std::size_t k, const BoxQuery& q) const { return all || boxes.within(k, q); }
+    /// A point and reach to test the candidates' boxes against.
+    BoxQuery box_query(const Vec3& p, double reach_m) const { return boxes.query(p, reach_m); }
     /// Every candidate from the k-th on that may_touch(p, reach_m) accepts,
     /// in ascending order: their places are found[0, count), count
     /// returned (valid until the next query). Not for brute force. A group
     /// or run whose box is beyond reach is skipped whole: no box inside it
-    /// is nearer (box_distance2 is monotonic), so the answer is exactly the
-    /// one-by-one test's.
+    /// is nearer, so the answer is exactly the one-by-one test's.
     std::size_t touching_from(std::size_t k, const Vec3& p, double reach_m) const;
 
-    /// What touching_from() returns (sized at the gather, so that a query
-    /// writes without a branch on each test).
+    /// What touching_from() returns (sized at the gather, with room for a
+    /// whole run past the last candidate: a query stores each tested run's
+    /// places without a branch, advancing past those that pass).
     mutable std::vector<std::uint32_t> found;
 
     /// False if the k-th candidate's box is farther than `reach_m` from `p`
     /// along an axis: it cannot come within `reach_m` of `p`. The sweep's
     /// test (its hits are not decided by a closest distance alone).
-    bool may_reach_along_axes(std::size_t k, const Vec3& p, double reach_m) const {
-        if (all) return true;
-        const Aabb& b = boxes[k];
-        const double h = reach_m + kBoxSlack_m;
-        return p.x() + h >= b.min.x() && p.x() - h <= b.max.x() && p.y() + h >= b.min.y() &&
-               p.y() - h <= b.max.y() && p.z() + h >= b.min.z() && p.z() - h <= b.max.z();
-    }
+    bool may_reach_along_axes(std::size_t k, const BoxQuery& q) const { return all || boxes.within_along_axes(k, q); }
 };
 
 }  // namespace jetrace
