@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
 
 namespace jetrace {
 
@@ -186,7 +185,8 @@ int push_pass(const TrackQuery& q, const SphereMotion& car, Candidates& cand, bo
     std::size_t k = 0;  // where the pass goes on after a push
     for (;;) {
         bool pushed = false;
-        std::optional<BoxQuery> at_r;  // the box test at reach r where the car is (made once)
+        // The box test a pass at reach r would make where the car is.
+        const BoxQuery at_r = reach != r ? cand.box_query(position, r) : BoxQuery{};
         for_each_touching(track, cand, k, position, reach, [&](const Triangle& t, std::size_t at, std::uint32_t index) {
             ClosestPoint cp;
             if (!closest_within(cand, index, t, position, reach, cp)) return true;
@@ -198,8 +198,7 @@ int push_pass(const TrackQuery& q, const SphereMotion& car, Candidates& cand, bo
             bool touching = d2 <= r2;
             if (touching && reach != r) {
                 ClosestPoint same_point;
-                if (!at_r) at_r = cand.box_query(position, r);
-                touching = cand.may_touch(at, *at_r) && closest_within(cand, index, t, position, r, same_point);
+                touching = cand.may_touch(at, at_r) && closest_within(cand, index, t, position, r, same_point);
             }
             if (!touching) {
                 if (collect && pushes == 0 && d2 < query2) {
