@@ -166,17 +166,12 @@ void check_grid_against_brute(const Track& track, const std::vector<Vec3>& centr
         for (std::uint32_t t = 0; t < track.triangles.size(); ++t) {
             if (grid.box(t).aabb().overlaps(region)) overlapping.push_back(t);
         }
-        // Each candidate's box is relative to the boxes' origin, in floats
-        // rounded outward: it holds the triangle's bounds moved alike.
         bool boxes_hold = cand.boxes.size() == cand.triangles.size();
-        const Vec3& origin = cand.boxes.origin();
         for (std::size_t k = 0; boxes_hold && k < cand.triangles.size(); ++k) {
-            const FloatBox b = cand.boxes.relative(k);
+            const Aabb b = cand.boxes.box(k).aabb();
             const Aabb exact = track.triangles[cand.triangles[k]].bounds();
-            for (int i = 0; i < 3; ++i) {
-                boxes_hold = boxes_hold && double{b.lo[i]} <= exact.min[i] - origin[i] &&
-                             double{b.hi[i]} >= exact.max[i] - origin[i];
-            }
+            boxes_hold = b.min == grid.box(cand.triangles[k]).aabb().min && b.max == grid.box(cand.triangles[k]).aabb().max &&
+                         (b.min.array() <= exact.min.array()).all() && (b.max.array() >= exact.max.array()).all();
         }
         if (cand.triangles != overlapping || !boxes_hold) {
             ++failures;

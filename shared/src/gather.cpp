@@ -42,7 +42,7 @@ void gather_candidates(const TrackQuery& q, const Vec3& center, double radius_m,
     out.triangles.clear();
     out.all = q.broadphase == Broadphase::brute_force;
     if (out.all) {
-        out.finish_gather(center, [](std::uint32_t) -> FloatBox { return {}; });
+        out.finish_gather([](std::uint32_t) -> FloatBox { return {}; });
         return;
     }
     if (out.track != &q.track) {  // kept frames belong to one track
@@ -74,8 +74,7 @@ void gather_candidates(const TrackQuery& q, const Vec3& center, double radius_m,
     // ascending runs, merged; a triangle met in two cells is kept once.
     merge_runs(kept, out.merge_scratch);
     kept.erase(std::unique(kept.begin(), kept.end()), kept.end());
-    // The boxes relative to the region's centre, where the queries are.
-    out.finish_gather(0.5 * (out.region.min + out.region.max), [&](std::uint32_t t) -> const FloatBox& { return q.grid.box(t); });
+    out.finish_gather([&](std::uint32_t t) -> const FloatBox& { return q.grid.box(t); });
 }
 
 GatherReach gather_reach(const PhysicsSettings& s, GatherFor why, double motion_m) {

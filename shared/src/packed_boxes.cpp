@@ -6,8 +6,7 @@
 
 namespace jetrace {
 
-void PackedBoxes::reset(const Vec3& origin, std::size_t n) {
-    origin_ = origin;
+void PackedBoxes::reset(std::size_t n) {
     n_ = n;
     const std::size_t padded = (n + kLanes - 1) / kLanes * kLanes;
     constexpr float inf = std::numeric_limits<float>::infinity();

@@ -84,7 +84,7 @@ struct Candidates {
     /// Ascending triangle indices whose boxes (the grid's, each containing
     /// the triangle's bounds: UniformGrid::box) overlap `region`.
     std::vector<std::uint32_t> triangles;
-    /// Those boxes, in the same order (relative to the region's centre).
+    /// Those boxes, in the same order.
     PackedBoxes boxes;
     /// Run j: the box around boxes j * kRunLength to (j + 1) * kRunLength - 1
     /// (the last run may be shorter). Meshes list their triangles with
@@ -110,21 +110,21 @@ struct Candidates {
     const Track* track = nullptr;
 
     /// The end of a gather: fills `boxes` from box_of(i) (the FloatBox of
-    /// triangle i, for each of `triangles`) relative to `origin`, and
-    /// `runs` and `groups` around them (in floats: exact), in one pass.
+    /// triangle i, for each of `triangles`), and `runs` and `groups` around
+    /// them (in floats: exact), in one pass.
     template <class BoxOf>
-    void finish_gather(const Vec3& origin, BoxOf&& box_of) {
+    void finish_gather(BoxOf&& box_of) {
         const std::size_t n = triangles.size();
         const std::size_t run_count = (n + kRunLength - 1) >> kRunShift;
         const std::size_t group_count = (run_count + kRunLength - 1) >> kRunShift;
-        boxes.reset(origin, n);
-        runs.reset(origin, run_count);  // padded to whole groups
-        groups.reset(origin, group_count);
+        boxes.reset(n);
+        runs.reset(run_count);  // padded to whole groups
+        groups.reset(group_count);
         found.resize(n + kRunLength);  // a query writes whole runs
         FloatBox run, group;
         for (std::size_t k = 0; k < n; ++k) {
-            const FloatBox b = boxes.relative_to_origin(box_of(triangles[k]));
-            boxes.set_relative(k, b);
+            const FloatBox& b = box_of(triangles[k]);
+            boxes.set(k, b);
             if (k % kRunLength == 0) {
                 run = b;
             } else {
@@ -132,13 +132,13 @@ struct Candidates {
             }
             if (k % kRunLength != kRunLength - 1 && k + 1 != n) continue;
             const std::size_t r = k >> kRunShift;  // the run just ended
-            runs.set_relative(r, run);
+            runs.set(r, run);
             if (r % kRunLength == 0) {
                 group = run;
             } else {
                 group.expand(run);
             }
-            if (r % kRunLength == kRunLength - 1 || k + 1 == n) groups.set_relative(r >> kRunShift, group);
+            if (r % kRunLength == kRunLength - 1 || k + 1 == n) groups.set(r >> kRunShift, group);
         }
     }
 

@@ -1,20 +1,19 @@
 // A car's candidate boxes packed for testing eight at a time.
 //
-// The boxes are kept relative to an origin (the centre of the gathered
-// region) in floats, rounded outward, one array per bound and axis
-// (structure of arrays): a test reads 8 boxes' lower x bounds in one
-// load, and so on, and tests them together in 4-lane float vectors (GCC
-// and Clang vector extensions: SSE2 on x86-64, NEON on aarch64, scalar
-// code where a target has no vectors). Relative coordinates keep floats
-// precise wherever the track is (a float 1 km from its origin is good to
-// 0.06 mm; 1,000 km away, to 6 cm).
+// The boxes are the grid's: each triangle's bounds rounded outward to
+// floats (UniformGrid::box), one array per bound and axis (structure of
+// arrays), so a test reads 8 boxes' lower x bounds in one load, and so on,
+// and tests them together in 4-lane float vectors (GCC and Clang vector
+// extensions: SSE2 on x86-64, NEON on aarch64, scalar code where a target
+// has no vectors). A gather only copies them.
 //
 // A test is conservative: it accepts every box whose exact distance to the
 // point is within the reach (plus kBoxSlack_m), the rounding of the point
 // to floats and of the float arithmetic included (BoxQuery widens the
-// reach to cover both). It may accept a box a few micrometres beyond that;
-// callers decide with exact tests on the triangles, so a box test changes
-// what they cost, never what they find.
+// reach to cover both: by about 2^-23 of the point's coordinates, 0.1 mm
+// a kilometre from the world's origin). It may accept a box that much
+// beyond; callers decide with exact tests on the triangles, so a box test
+// changes what they cost, never what they find.
 #pragma once
 
 #include "jetrace/geometry.hpp"
@@ -36,7 +35,7 @@ inline constexpr double kBoxSlack_m = 1e-6;
 
 /// A point and reach to test packed boxes against (PackedBoxes::query).
 struct BoxQuery {
-    float p[3] = {0, 0, 0};  ///< the point, relative to the boxes' origin
+    float p[3] = {0, 0, 0};  ///< the point, rounded to floats
     float reach = 0;         ///< the reach, widened to cover rounding (unit: m)
     float reach2 = 0;        ///< its square, widened again
     bool none = true;        ///< no box can be within reach (NaN, or absurdly far)
@@ -64,34 +63,17 @@ public:
     /// (lower bounds +infinity, upper -infinity), which no test accepts.
     static constexpr std::size_t kLanes = 8;
 
-    /// Holds `n` boxes relative to `origin`, each to be set (the padding
-    /// after them is empty).
-    void reset(const Vec3& origin, std::size_t n);
-    /// Box k: `absolute` moved to the origin, rounded outward to floats.
-    void set(std::size_t k, const FloatBox& absolute) { set_relative(k, relative_to_origin(absolute)); }
-    /// Box k, already relative to the origin.
-    void set_relative(std::size_t k, const FloatBox& rel) {
+    /// Holds `n` boxes, each to be set (the padding after them is empty).
+    void reset(std::size_t n);
+    /// Box k.
+    void set(std::size_t k, const FloatBox& b) {
         for (int i = 0; i < 3; ++i) {
-            lo_[i][k] = rel.lo[i];
-            hi_[i][k] = rel.hi[i];
+            lo_[i][k] = b.lo[i];
+            hi_[i][k] = b.hi[i];
         }
     }
-    /// `absolute` relative to the origin, in floats that hold it: each
-    /// bound is moved in doubles (one rounding), widened by 2^-22 of its
-    /// size (more than a float's rounding) and rounded to the nearest
-    /// float. Branch-free: a gather moves hundreds.
-    FloatBox relative_to_origin(const FloatBox& absolute) const {
-        FloatBox rel;
-        for (int i = 0; i < 3; ++i) {
-            const double lo = double{absolute.lo[i]} - origin_[i];
-            const double hi = double{absolute.hi[i]} - origin_[i];
-            rel.lo[i] = static_cast<float>(lo - (std::abs(lo) * 0x1p-22 + 0x1p-100));
-            rel.hi[i] = static_cast<float>(hi + (std::abs(hi) * 0x1p-22 + 0x1p-100));
-        }
-        return rel;
-    }
-    /// Box k, relative to the origin.
-    FloatBox relative(std::size_t k) const {
+    /// Box k.
+    FloatBox box(std::size_t k) const {
         FloatBox b;
         for (int i = 0; i < 3; ++i) {
             b.lo[i] = lo_[i][k];
@@ -100,7 +82,6 @@ public:
         return b;
     }
     std::size_t size() const { return n_; }
-    const Vec3& origin() const { return origin_; }
 
     /// The query for point `p` and reach `reach_m` (unit: m).
     BoxQuery query(const Vec3& p, double reach_m) const;
@@ -155,18 +136,16 @@ private:
         return static_cast<std::uint32_t>(bits[0] | bits[1] | bits[2] | bits[3]);
     }
 
-    Vec3 origin_{0, 0, 0};
     std::size_t n_ = 0;
     std::array<std::vector<float>, 3> lo_, hi_;  // padded to a multiple of kLanes
 };
 
 inline BoxQuery PackedBoxes::query(const Vec3& p, double reach_m) const {
     BoxQuery q;
-    const Vec3 rel = p - origin_;
-    const double far = std::max({std::abs(rel.x()), std::abs(rel.y()), std::abs(rel.z())});
+    const double far = std::max({std::abs(p.x()), std::abs(p.y()), std::abs(p.z())});
     // NaN fails both. Beyond these bounds floats could overflow; no box
-    // of a track (within kMaxTrackCoordinate_m) is that far from a point a
-    // car can reach, and no reach a car uses is that long.
+    // of a track (within kMaxTrackCoordinate_m) is within reach of such a
+    // point, and no reach a car uses is that long.
     if (!(far <= 1e30) || !(reach_m >= 0.0 && reach_m <= 1e18)) return q;
     // The point rounds to floats by at most far * 2^-24; each float
     // difference, sum and square rounds by 2^-24 of what it holds, and
@@ -174,7 +153,7 @@ inline BoxQuery PackedBoxes::query(const Vec3& p, double reach_m) const {
     // reach by twice the first and both by 2^-18 covers them with room
     // to spare.
     const double h = reach_m + kBoxSlack_m + far * 0x1p-23 + 1e-9;
-    for (int i = 0; i < 3; ++i) q.p[i] = static_cast<float>(rel[i]);
+    for (int i = 0; i < 3; ++i) q.p[i] = static_cast<float>(p[i]);
     q.reach = static_cast<float>(h * (1.0 + 0x1p-18));
     q.reach2 = static_cast<float>(h * h * (1.0 + 0x1p-18));
     q.none = false;
