@@ -25,6 +25,11 @@ Triangle Triangle::make(const Vec3& a, const Vec3& b, const Vec3& c) {
     return t;
 }
 
+namespace {
+
+// The float after `f` towards +infinity (`up`) or -infinity, for a finite
+// `f` or the infinity on the other side: std::nextafter without the library
+// call (a grid of millions of triangles makes millions of these).
 float float_step(float f, bool up) {
     if (f == 0.0f) return up ? std::numeric_limits<float>::denorm_min() : -std::numeric_limits<float>::denorm_min();
     const auto bits = std::bit_cast<std::uint32_t>(f);
@@ -33,11 +38,15 @@ float float_step(float f, bool up) {
     return std::bit_cast<float>(away ? bits + 1 : bits - 1);
 }
 
+}  // namespace
+
 FloatBox FloatBox::around(const Aabb& b) {
     FloatBox f;
     for (int i = 0; i < 3; ++i) {
-        f.lo[i] = float_below(b.min[i]);
-        f.hi[i] = float_above(b.max[i]);
+        f.lo[i] = static_cast<float>(b.min[i]);
+        if (double{f.lo[i]} > b.min[i]) f.lo[i] = float_step(f.lo[i], false);
+        f.hi[i] = static_cast<float>(b.max[i]);
+        if (double{f.hi[i]} < b.max[i]) f.hi[i] = float_step(f.hi[i], true);
     }
     return f;
 }

@@ -1,7 +1,6 @@
 #include "jetrace/packed_boxes.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <limits>
 
 namespace jetrace {

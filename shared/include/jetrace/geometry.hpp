@@ -25,22 +25,6 @@ struct Aabb {
     }
 };
 
-/// The float after `f` towards +infinity (`up`) or -infinity, for a finite
-/// `f` or the infinity on the other side (std::nextafter without the
-/// library call).
-float float_step(float f, bool up);
-
-/// The largest float not above `v`, and the smallest not below it (NaN
-/// stays NaN; beyond the float range: the largest float or an infinity).
-inline float float_below(double v) {
-    const auto f = static_cast<float>(v);
-    return double{f} > v ? float_step(f, false) : f;
-}
-inline float float_above(double v) {
-    const auto f = static_cast<float>(v);
-    return double{f} < v ? float_step(f, true) : f;
-}
-
 /// A box in single precision, rounded outward: it contains the double box
 /// it was made from (24 bytes against Aabb's 48). What the grid keeps of
 /// each triangle and the gather filters by.
