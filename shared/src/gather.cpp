@@ -52,20 +52,12 @@ void gather_candidates(const TrackQuery& q, const Vec3& center, double radius_m,
     const Vec3 slack(kBoxSlack_m, kBoxSlack_m, kBoxSlack_m);
     const Aabb query{out.region.min - slack, out.region.max + slack};
     // The triangles whose boxes (the grid's, which contain their bounds)
-    // reach the query: the grid reports every triangle bucketed in the
-    // cells it touches (once per cell), and its box, not the triangle, is
-    // read to filter them (24 bytes a triangle, in triangle order, against
-    // the triangle's 80).
-    // Written without a branch on the test (about a third are kept, in no
-    // predictable pattern): every one is stored, and the end moves past
-    // it only if kept.
+    // reach the query: the grid walks every triangle bucketed in the cells
+    // it touches (once per cell) and tests its box, not the triangle (24
+    // bytes a triangle, in triangle order, against the triangle's 80), or
+    // keeps or drops a chunk of them by the chunk's box.
     std::vector<std::uint32_t>& kept = out.triangles;
-    std::size_t n = 0;
-    q.grid.for_each_bucketed(query, [&](std::uint32_t t) {
-        if (n == kept.size()) kept.resize(std::max<std::size_t>(64, 2 * kept.size()));
-        kept[n] = t;
-        n += q.grid.box(t).aabb().overlaps(query) ? 1 : 0;
-    });
+    const std::size_t n = q.grid.collect_overlapping(query, kept, 0);
     kept.resize(n);
     // Canonical order: ascending triangle index, the brute-force order. The
     // result of a step then does not depend on which cells were visited or

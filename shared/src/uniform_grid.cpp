@@ -213,6 +213,7 @@ UniformGrid::UniformGrid(const std::vector<Triangle>& triangles, const Aabb& bou
     cells_[occupied] = cell(kNoKey, total);
     cells_[occupied + 1] = cell(kNoKey, total);
     build_table();
+    chunks_.build(items_, boxes_);
 }
 
 void UniformGrid::build_coarse(const std::vector<Triangle>& triangles, const std::vector<char>& large,
@@ -246,7 +247,7 @@ void UniformGrid::build_table() {
 
 std::size_t UniformGrid::memory_bytes() const {
     return slots_.size() * sizeof(std::uint32_t) + cells_.size() * sizeof(Cell) +
-           items_.size() * sizeof(std::uint32_t) + boxes_.size() * sizeof(FloatBox) +
+           items_.size() * sizeof(std::uint32_t) + boxes_.size() * sizeof(FloatBox) + chunks_.memory_bytes() +
            coarse_ids_.size() * sizeof(std::uint32_t) + (coarse_.empty() ? 0 : coarse_[0].memory_bytes());
 }
 

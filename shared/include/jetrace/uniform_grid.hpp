@@ -15,14 +15,18 @@
 //           start), then one empty cell and an end marker;
 //   items_  triangle indices, ascending within a cell;
 //   slots_  an open-addressing hash table (linear probing, power-of-two
-//           capacity, load <= 0.5) from key to index in cells_.
+//           capacity, load <= 0.5) from key to index in cells_;
+//   chunks_ the box around each 16 consecutive pairs of items_
+//           (ChunkBoxes, 12 bytes: 16-bit bounds), so that a gather drops
+//           most pairs 16 at a time and tests fewer axes of the others
+//           (collect_overlapping).
 // A lookup is one hash, one slot and one cell (a second probe is rare);
 // empty cells are not stored, their lookups end on an empty slot, which
 // names the empty cell. Everything is built from the (key, triangle) pairs
 // sorted by (key, triangle), and the table is filled in ascending key order
 // with a fixed hash, so the layout is a pure function of the geometry
 // (nothing depends on allocation addresses or insertion history). Memory:
-// 4 bytes per triangle-cell pair, at most 28 bytes per occupied cell and
+// 4.75 bytes per triangle-cell pair, at most 28 bytes per occupied cell and
 // 24 bytes per triangle (see memory_bytes), independent of the bounding
 // volume.
 //
@@ -40,8 +44,9 @@
 // 94 % of them in 10 m cells, 219 bytes a triangle; 32 with two levels, at
 // the same cost per car-step). for_each_candidate reports every triangle
 // bucketed in a box's cells once (its owner cell decides); the gather uses
-// for_each_bucketed instead, which may report one several times, and then
-// filters by the boxes, merges and drops the repeats.
+// collect_overlapping instead, which keeps those whose boxes overlap the
+// query, once per cell (repeats possible), and then merges and drops the
+// repeats.
 //
 // Cell size rule (see cell_size_for): the edge is the typical triangle's
 // size (the median over the triangles of their box's largest extent),
@@ -68,6 +73,7 @@
 //     4e10 cells at 10 m).
 #pragma once
 
+#include "jetrace/chunk_boxes.hpp"
 #include "jetrace/geometry.hpp"
 
 #include <algorithm>
@@ -167,6 +173,19 @@ public:
         coarse_[0].for_each_fine<false>(box, large);
     }
 
+    /// Stores at out[n], out[n + 1], ... each triangle bucketed in a cell of
+    /// `box`'s cell range whose box (box()) overlaps `box`, once per such
+    /// cell, in for_each_bucketed's order, and returns the new count.
+    /// `out` (the caller's scratch) grows as needed. The walk of
+    /// for_each_bucketed with the test of each box, but a chunk of pairs
+    /// (ChunkBoxes) whose box is outside `box` is dropped whole, and the
+    /// boxes of one inside `box` along an axis are not tested along it.
+    std::size_t collect_overlapping(const Aabb& box, std::vector<std::uint32_t>& out, std::size_t n) const {
+        n = collect_level(box, out, n, [](std::uint32_t t) { return t; });
+        if (coarse_.empty()) return n;
+        return coarse_[0].collect_level(box, out, n, [&](std::uint32_t i) { return coarse_ids_[i]; });
+    }
+
     /// True if pred(triangle_index) holds for a candidate of `box` (the walk
     /// of for_each_candidate, stopped at the first).
     template <class P>
@@ -201,6 +220,37 @@ private:
     // False if f asked to stop.
     template <bool kOnce, class F>
     bool for_each_fine(const Aabb& box, F& f) const {
+        return for_each_cell(box, [&](std::uint32_t c, const CellRange& q, std::int32_t x, std::int32_t y,
+                                      std::int32_t z) { return visit_cell<kOnce>(c, q, x, y, z, f); });
+    }
+    // collect_overlapping over this level (`id`: its triangle index to the
+    // track's).
+    template <class Id>
+    std::size_t collect_level(const Aabb& box, std::vector<std::uint32_t>& out, std::size_t n, const Id& id) const {
+        const ChunkBoxes::Query cq = chunks_.query(box);
+        for_each_cell(box, [&](std::uint32_t c, const CellRange&, std::int32_t, std::int32_t, std::int32_t) {
+            n = collect_cell(c, box, cq, out, n, id);
+            return true;
+        });
+        return n;
+    }
+    // Cell c's part of collect_level (jetrace/grid_collect.hpp).
+    template <class Id>
+    std::size_t collect_cell(std::uint32_t c, const Aabb& box, const ChunkBoxes::Query& cq,
+                             std::vector<std::uint32_t>& out, std::size_t n, const Id& id) const;
+    // Stores items_[from, to) whose boxes overlap `box` along the axes in
+    // kAxes (bit i: axis i; along the others they are known to) at at[n],
+    // at[n + 1], ...; the new n.
+    template <unsigned kAxes, class Id>
+    std::size_t collect_along(std::uint32_t from, std::uint32_t to, const Aabb& box, std::uint32_t* at,
+                              std::size_t n, const Id& id) const;
+    // Calls visit(cell index, range, x, y, z) for each occupied cell of
+    // `box`'s range (the empty cell for those not occupied), x fastest, then
+    // y, then z; or, if the range holds more cells than are occupied, for
+    // the occupied ones in it by key (the same order). False if visit
+    // returned false (and stopped the walk).
+    template <class V>
+    bool for_each_cell(const Aabb& box, const V& visit) const {
         CellRange q;
         if (!cell_range(box, q)) return true;
         const std::uint64_t span = u64(q.hi[0] - q.lo[0] + 1) * u64(q.hi[1] - q.lo[1] + 1) * u64(q.hi[2] - q.lo[2] + 1);
@@ -212,7 +262,7 @@ private:
                 const auto y = static_cast<std::int32_t>((key / dx) % dy);
                 const auto z = static_cast<std::int32_t>(key / dx / dy);
                 if (x < q.lo[0] || x > q.hi[0] || y < q.lo[1] || y > q.hi[1] || z < q.lo[2] || z > q.hi[2]) continue;
-                if (!visit_cell<kOnce>(c, q, x, y, z, f)) return false;
+                if (!visit(c, q, x, y, z)) return false;
             }
             return true;
         }
@@ -220,7 +270,7 @@ private:
             for (std::int32_t y = q.lo[1]; y <= q.hi[1]; ++y) {
                 const std::uint64_t row = (u64(z) * u64(dims_[1]) + u64(y)) * u64(dims_[0]);
                 for (std::int32_t x = q.lo[0]; x <= q.hi[0]; ++x) {
-                    if (!visit_cell<kOnce>(find(row + u64(x)), q, x, y, z, f)) return false;
+                    if (!visit(find(row + u64(x)), q, x, y, z)) return false;
                 }
             }
         }
@@ -307,8 +357,11 @@ private:
     std::vector<Cell> cells_;             // occupied cells by ascending key, the empty cell, an end marker
     std::vector<std::uint32_t> items_;    // triangle indices, ascending per cell
     std::vector<FloatBox> boxes_;         // each triangle's box, rounded outward to floats
+    ChunkBoxes chunks_;                   // the box around each chunk of items_
     std::vector<UniformGrid> coarse_;     // none or one: the level of the large triangles
     std::vector<std::uint32_t> coarse_ids_;  // coarse-level index -> triangle index
 };
 
 }  // namespace jetrace
+
+#include "jetrace/grid_collect.hpp"  // collect_cell, collect_along
