@@ -226,15 +226,8 @@ private:
     // collect_overlapping over this level (`id`: its triangle index to the
     // track's).
     template <class Id>
-    std::size_t collect_level(const Aabb& box, std::vector<std::uint32_t>& out, std::size_t n, const Id& id) const {
-        const ChunkBoxes::Query cq = chunks_.query(box);
-        for_each_cell(box, [&](std::uint32_t c, const CellRange&, std::int32_t, std::int32_t, std::int32_t) {
-            n = collect_cell(c, box, cq, out, n, id);
-            return true;
-        });
-        return n;
-    }
-    // Cell c's part of collect_level (jetrace/grid_collect.hpp).
+    std::size_t collect_level(const Aabb& box, std::vector<std::uint32_t>& out, std::size_t n, const Id& id) const;
+    // Cell c's part of collect_level.
     template <class Id>
     std::size_t collect_cell(std::uint32_t c, const Aabb& box, const ChunkBoxes::Query& cq,
                              std::vector<std::uint32_t>& out, std::size_t n, const Id& id) const;
@@ -250,32 +243,7 @@ private:
     // the occupied ones in it by key (the same order). False if visit
     // returned false (and stopped the walk).
     template <class V>
-    bool for_each_cell(const Aabb& box, const V& visit) const {
-        CellRange q;
-        if (!cell_range(box, q)) return true;
-        const std::uint64_t span = u64(q.hi[0] - q.lo[0] + 1) * u64(q.hi[1] - q.lo[1] + 1) * u64(q.hi[2] - q.lo[2] + 1);
-        if (span > u64(empty_)) {
-            const std::uint64_t dx = u64(dims_[0]), dy = u64(dims_[1]);
-            for (std::uint32_t c = 0; c < empty_; ++c) {
-                const std::uint64_t key = cells_[c].key();
-                const auto x = static_cast<std::int32_t>(key % dx);
-                const auto y = static_cast<std::int32_t>((key / dx) % dy);
-                const auto z = static_cast<std::int32_t>(key / dx / dy);
-                if (x < q.lo[0] || x > q.hi[0] || y < q.lo[1] || y > q.hi[1] || z < q.lo[2] || z > q.hi[2]) continue;
-                if (!visit(c, q, x, y, z)) return false;
-            }
-            return true;
-        }
-        for (std::int32_t z = q.lo[2]; z <= q.hi[2]; ++z) {
-            for (std::int32_t y = q.lo[1]; y <= q.hi[1]; ++y) {
-                const std::uint64_t row = (u64(z) * u64(dims_[1]) + u64(y)) * u64(dims_[0]);
-                for (std::int32_t x = q.lo[0]; x <= q.hi[0]; ++x) {
-                    if (!visit(find(row + u64(x)), q, x, y, z)) return false;
-                }
-            }
-        }
-        return true;
-    }
+    bool for_each_cell(const Aabb& box, const V& visit) const;
 
     // 12 bytes: the key as two halves (no 8-byte alignment), and the
     // start of its triangles, which end where the next cell's start.
@@ -364,4 +332,6 @@ private:
 
 }  // namespace jetrace
 
-#include "jetrace/grid_collect.hpp"  // collect_cell, collect_along
+// The definitions of the walks over a box's cells (for_each_cell and
+// collect_overlapping's parts).
+#include "jetrace/uniform_grid_walks.inl"
