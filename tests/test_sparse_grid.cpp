@@ -345,7 +345,8 @@ TEST(SparseGrid, TwoLevelsReportEveryOverlappingTriangleOnce) {
         std::sort(got.begin(), got.end());
         const bool unique = std::adjacent_find(got.begin(), got.end()) == got.end();
         const bool covers = std::includes(got.begin(), got.end(), want.begin(), want.end());
-        // for_each_bucketed (the gather's walk): the same triangles, repeats allowed.
+        // for_each_bucketed (the walk collect_overlapping filters): the same
+        // triangles, repeats allowed.
         std::vector<std::uint32_t> bucketed;
         grid.for_each_bucketed(box, [&](std::uint32_t k) { bucketed.push_back(k); });
         std::sort(bucketed.begin(), bucketed.end());

@@ -164,7 +164,8 @@ public:
     /// `box`'s cell range, in the same order as for_each_candidate, but
     /// once per such cell (a triangle in two of them is reported twice):
     /// the walk without the owner-cell test, for a caller that sorts what
-    /// it keeps and drops repeats itself (the gather).
+    /// it keeps and drops repeats itself (collect_overlapping's walk,
+    /// before its box tests).
     template <class F>
     void for_each_bucketed(const Aabb& box, F&& f) const {
         for_each_fine<false>(box, f);
