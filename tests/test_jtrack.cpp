@@ -242,4 +242,23 @@ TEST(Jtrack, Crc32cContinuesAcrossAnySplit) {
     }
 }
 
+// crc32c (the processor's instruction where it has one) and the tables
+// agree on every length and start within a buffer, and continued.
+TEST(Jtrack, Crc32cInstructionAndTablesAgree) {
+    std::vector<std::uint8_t> b(600);
+    for (std::size_t i = 0; i < b.size(); ++i) b[i] = static_cast<std::uint8_t>((i * 2654435761u) >> 13);
+    const std::span<const std::uint8_t> s(b);
+    for (std::size_t start = 0; start < 9; ++start) {
+        for (std::size_t len = 0; start + len <= b.size(); len += 1 + len / 8) {
+            const std::span<const std::uint8_t> part = s.subspan(start, len);
+            ASSERT_EQ(jetrace::replay::crc32c(part), jetrace::replay::crc32c_tables(part)) << start << "+" << len;
+            ASSERT_EQ(jetrace::replay::crc32c(part, 0x12345678u), jetrace::replay::crc32c_tables(part, 0x12345678u))
+                << start << "+" << len << ", continued";
+        }
+    }
+    const std::string nine = "123456789";
+    EXPECT_EQ(jetrace::replay::crc32c_tables({reinterpret_cast<const std::uint8_t*>(nine.data()), nine.size()}),
+              0xE3069283u);
+}
+
 }  // namespace

@@ -1,6 +1,8 @@
 #include "jetrace/replay/crc32c.hpp"
 
 #include <array>
+#include <cstddef>
+#include <cstring>
 
 namespace jetrace::replay {
 
@@ -26,9 +28,41 @@ constexpr Tables make_tables() {
 
 constexpr Tables kTables = make_tables();
 
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+// The SSE4.2 instruction computes the same polynomial, reflected, eight
+// bytes at a time (little-endian, as the tables read them). Compiled for
+// SSE4.2 alone; called only where the processor has it.
+__attribute__((target("sse4.2"))) std::uint32_t crc32c_sse42(std::span<const std::uint8_t> bytes,
+                                                               std::uint32_t crc) {
+    std::uint64_t c = ~crc;
+    const std::uint8_t* p = bytes.data();
+    std::size_t n = bytes.size();
+    for (; n >= 8; p += 8, n -= 8) {
+        std::uint64_t v;
+        std::memcpy(&v, p, sizeof v);
+        c = __builtin_ia32_crc32di(c, v);
+    }
+    auto c32 = static_cast<std::uint32_t>(c);
+    for (; n > 0; ++p, --n) c32 = __builtin_ia32_crc32qi(c32, *p);
+    return ~c32;
+}
+
+bool has_sse42() {
+    static const bool has = __builtin_cpu_supports("sse4.2") != 0;
+    return has;
+}
+#endif
+
 }  // namespace
 
 std::uint32_t crc32c(std::span<const std::uint8_t> bytes, std::uint32_t crc) {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+    if (has_sse42()) return crc32c_sse42(bytes, crc);
+#endif
+    return crc32c_tables(bytes, crc);
+}
+
+std::uint32_t crc32c_tables(std::span<const std::uint8_t> bytes, std::uint32_t crc) {
     std::uint32_t c = ~crc;
     const std::uint8_t* p = bytes.data();
     std::size_t n = bytes.size();

@@ -9,6 +9,12 @@
 namespace jetrace::replay {
 
 /// Continues a CRC-32C: pass the previous result as `crc` (0 to start).
+/// On x86-64 processors with SSE4.2 (checked once, at run time) by the
+/// processor's CRC-32C instruction, about four times the speed of the
+/// tables; elsewhere by crc32c_tables. The same result either way.
 std::uint32_t crc32c(std::span<const std::uint8_t> bytes, std::uint32_t crc = 0);
+
+/// crc32c by tables alone (slicing by 8), on every processor.
+std::uint32_t crc32c_tables(std::span<const std::uint8_t> bytes, std::uint32_t crc = 0);
 
 }  // namespace jetrace::replay
