@@ -43,7 +43,8 @@ void ChunkBoxes::build(const std::vector<std::uint32_t>& items, const std::vecto
         Bounds& b = chunks_[c];
         for (int i = 0; i < 3; ++i) {
             // Every bound is within rounding of [0, kUnits] steps: the clamp
-            // at 65535 never applies, the one at 0 only lowers a bound.
+            // at 65535 never applies, and the one at 0 raises a lower bound
+            // at most to its boxes' own (none is below 0 steps).
             const double lo = std::floor(to_steps(box.lo[i], origin_[i], steps_per_m_[i])) - 1.0;
             const double hi = std::ceil(to_steps(box.hi[i], origin_[i], steps_per_m_[i])) + 1.0;
             b[static_cast<std::size_t>(i)] = static_cast<std::uint16_t>(std::clamp(lo, 0.0, 65535.0));
