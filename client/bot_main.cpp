@@ -6,10 +6,10 @@
 #include "bot_options.hpp"
 #include "bot_report.hpp"
 
+#include "jetrace/ai/driver_ai.hpp"
+#include "jetrace/ai/offline_race.hpp"
 #include "jetrace/auth/connect_token.hpp"
 #include "jetrace/client/race_client.hpp"
-#include "jetrace/driver_ai.hpp"
-#include "jetrace/offline_race.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -33,6 +33,7 @@ struct Bot {
     std::unique_ptr<jetrace::client::RaceClient> client;
     std::string name;
     jetrace::DriverSkill skill;
+    jetrace::CourseCache course;  // the AI's view of the scene the client races on
     bool done = false;
 };
 
@@ -94,7 +95,7 @@ bool run(const BotOptions& o, std::vector<Bot>& bots, Clock::time_point start) {
             if (b.done) continue;
             const auto skill = b.skill;
             b.client->run_due(t, [&](const jetrace::Scene& sc, const jetrace::WorldState& w, int slot) {
-                return jetrace::drive(sc, w, slot, skill);
+                return jetrace::drive(b.course(sc), w, slot, skill);
             });
         }
         for (Bot& b : bots) {

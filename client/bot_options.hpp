@@ -3,7 +3,7 @@
 #pragma once
 
 #include "jetrace/client/client_config.hpp"
-#include "jetrace/world.hpp"
+#include "jetrace/core/world.hpp"
 
 #include <cstdint>
 #include <memory>

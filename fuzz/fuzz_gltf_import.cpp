@@ -4,7 +4,7 @@
 // the coordinate limit; it builds a mesh track that keeps every triangle it
 // does not drop as degenerate, and building it again gives the same identity.
 #include "fuzz_check.hpp"
-#include "jetrace/track_io.hpp"
+#include "jetrace/tracks/track_io.hpp"
 
 #include <cmath>
 #include <string_view>

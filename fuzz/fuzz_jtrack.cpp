@@ -6,9 +6,9 @@
 // (identity), and encoding is then a fixed point; a scene builds on it and
 // a car spawned on it steps.
 #include "fuzz_check.hpp"
-#include "jetrace/jtrack.hpp"
-#include "jetrace/replay/crc32c.hpp"
-#include "jetrace/world.hpp"
+#include "jetrace/core/crc32c.hpp"
+#include "jetrace/core/world.hpp"
+#include "jetrace/tracks/jtrack.hpp"
 
 #include <vector>
 
@@ -45,8 +45,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     check(jetrace::fuzz::bytes(data, size));
     if (size >= jetrace::kJtrackHeaderBytes) {
         std::vector<std::uint8_t> sealed(data, data + size);
-        put_u32(sealed, 56, jetrace::replay::crc32c(std::span<const std::uint8_t>(sealed).subspan(64)));
-        put_u32(sealed, 60, jetrace::replay::crc32c(std::span<const std::uint8_t>(sealed.data(), 60)));
+        put_u32(sealed, 56, jetrace::crc32c(std::span<const std::uint8_t>(sealed).subspan(64)));
+        put_u32(sealed, 60, jetrace::crc32c(std::span<const std::uint8_t>(sealed.data(), 60)));
         check(sealed);
     }
     return 0;

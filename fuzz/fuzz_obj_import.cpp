@@ -4,8 +4,8 @@
 // for bit and the same gate and spawn counts; and, as the server and
 // jetrace-sim do next, a scene builds on it and a car spawned on it steps.
 #include "fuzz_check.hpp"
-#include "jetrace/track_io.hpp"
-#include "jetrace/world.hpp"
+#include "jetrace/core/world.hpp"
+#include "jetrace/tracks/track_io.hpp"
 
 #include <bit>
 #include <string_view>

@@ -6,13 +6,14 @@
 #include "fuzz_check.hpp"
 #include "jetrace/replay/diff.hpp"
 #include "jetrace/replay/scene_for.hpp"
+#include "jetrace/tracks/builtin_tracks.hpp"
 
 #include <set>
 #include <string>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     using namespace jetrace::replay;
-    static const SceneFor ring = scene_for(load_builtin, "ring");
+    static const SceneFor ring = scene_for(jetrace::load_builtin, "ring");
     static const std::set<std::string> verdicts = {"identical", "inputs_differ", "desync", "different_races",
                                                    "unreadable", "shorter"};
     const auto bytes = jetrace::fuzz::bytes(data, size);

@@ -9,11 +9,12 @@
 #include "fuzz_check.hpp"
 #include "jetrace/replay/scene_for.hpp"
 #include "jetrace/replay/synctest.hpp"
+#include "jetrace/tracks/builtin_tracks.hpp"
 
 namespace {
 
 const jetrace::replay::SceneFor& ring() {
-    static const jetrace::replay::SceneFor scenes = jetrace::replay::scene_for(jetrace::replay::load_builtin, "ring");
+    static const jetrace::replay::SceneFor scenes = jetrace::replay::scene_for(jetrace::load_builtin, "ring");
     return scenes;
 }
 

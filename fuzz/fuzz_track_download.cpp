@@ -10,7 +10,7 @@
 // size; a finished download is the expected track or a named refusal.
 #include "fuzz_check.hpp"
 #include "jetrace/client/track_download.hpp"
-#include "jetrace/jtrack.hpp"
+#include "jetrace/tracks/jtrack.hpp"
 
 #include <algorithm>
 #include <vector>

@@ -4,7 +4,7 @@
 // accepted track validates, has the gates and spawns asked for, and builds
 // again with the same identity.
 #include "fuzz_check.hpp"
-#include "jetrace/track_io.hpp"
+#include "jetrace/tracks/track_io.hpp"
 
 #include <string_view>
 

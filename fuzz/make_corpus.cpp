@@ -4,14 +4,14 @@
 // by replay::Writer, small OBJ tracks. Deterministic (fixed seeds), so
 // re-running it after a format change rewrites the same file names. Files
 // not named gen_* (crash inputs kept as regressions) are left alone.
-#include "jetrace/builtin_tracks.hpp"
-#include "jetrace/driver_ai.hpp"
-#include "jetrace/jtrack.hpp"
-#include "jetrace/offline_race.hpp"
+#include "jetrace/ai/driver_ai.hpp"
+#include "jetrace/ai/offline_race.hpp"
 #include "jetrace/proto/messages.hpp"
 #include "jetrace/proto/world_codec.hpp"
 #include "jetrace/replay/writer.hpp"
-#include "jetrace/track_io.hpp"
+#include "jetrace/tracks/builtin_tracks.hpp"
+#include "jetrace/tracks/jtrack.hpp"
+#include "jetrace/tracks/track_io.hpp"
 #include "packed_payloads.hpp"
 
 #include <algorithm>
@@ -53,9 +53,10 @@ std::vector<jetrace::WorldState> race_states(const jetrace::Scene& scene, int ca
     jetrace::WorldState state = jetrace::start_race(scene, cars, 2);
     const auto skills = jetrace::skills_for(cars, 7);
     jetrace::StepScratch scratch;
+    const jetrace::Course course(scene);
     std::vector<jetrace::WorldState> out;
     for (int i = 0; i < samples; ++i) {
-        jetrace::run_ai(scene, state, skills, static_cast<std::uint32_t>(every), false, scratch);
+        jetrace::run_ai(course, state, skills, static_cast<std::uint32_t>(every), false, scratch);
         out.push_back(state);
     }
     return out;
@@ -65,8 +66,9 @@ jp::WorldSnapshot snapshot_of(const jetrace::Scene& scene, const jetrace::WorldS
     jp::WorldSnapshot w;
     w.state = s;
     w.tick_rate_hz = static_cast<std::uint16_t>(scene.physics.tick_rate_hz);
+    const jetrace::Course course(scene);
     for (std::size_t i = 0; i < s.cars.size(); ++i) {
-        w.last_inputs.push_back(s.cars[i].active ? jetrace::drive(scene, s, static_cast<int>(i)) : jetrace::Input{});
+        w.last_inputs.push_back(s.cars[i].active ? jetrace::drive(course, s, static_cast<int>(i)) : jetrace::Input{});
         w.upcoming.emplace_back(i % 3, w.last_inputs.back());
     }
     return w;
@@ -166,9 +168,10 @@ void replay(const jetrace::Scene& scene) {
         std::exit(1);
     }
     jetrace::StepScratch scratch;
+    const jetrace::Course course(scene);
     for (int t = 0; t < 12; ++t) {
         std::vector<jetrace::Input> inputs;
-        for (std::size_t i = 0; i < state.cars.size(); ++i) inputs.push_back(jetrace::drive(scene, state, static_cast<int>(i)));
+        for (std::size_t i = 0; i < state.cars.size(); ++i) inputs.push_back(jetrace::drive(course, state, static_cast<int>(i)));
         const std::vector<std::uint8_t> removed = t == 8 ? std::vector<std::uint8_t>{1} : std::vector<std::uint8_t>{};
         writer.record_tick(state.tick, removed, inputs);
         for (std::uint8_t s : removed) jetrace::remove_car(state, s);

@@ -9,7 +9,7 @@
 #include "jetrace/server/race_server.hpp"
 #include "jetrace/server/replay_recorder.hpp"
 #include "jetrace/server/tick_times.hpp"
-#include "jetrace/track_io.hpp"
+#include "jetrace/tracks/track_io.hpp"
 
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>

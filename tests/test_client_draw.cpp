@@ -2,10 +2,10 @@
 // a snapshot that corrects the prediction leaves the car drawn where it was,
 // the offset fading, but a snapshot in which the server respawned the car
 // (its prediction had not) draws it at once where it now is predicted.
-#include "jetrace/builtin_tracks.hpp"
+#include "jetrace/ai/offline_race.hpp"
 #include "jetrace/client/race_client.hpp"
-#include "jetrace/offline_race.hpp"
 #include "jetrace/proto/world_codec.hpp"
+#include "jetrace/tracks/builtin_tracks.hpp"
 #include "support/scripted_transport.hpp"
 #include "support/welcome.hpp"
 

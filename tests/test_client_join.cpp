@@ -3,9 +3,9 @@
 // connection that never came up joins again within
 // ClientConfig::join_window_s, while a drop after the Hello, a refusal or a
 // missing Welcome is final.
-#include "jetrace/builtin_tracks.hpp"
 #include "jetrace/client/race_client.hpp"
 #include "jetrace/proto/messages.hpp"
+#include "jetrace/tracks/builtin_tracks.hpp"
 #include "support/scripted_transport.hpp"
 #include "support/welcome.hpp"
 

@@ -1,7 +1,7 @@
 // TickRing and the server's InputQueue: the acceptance rules, the per-tick
 // pick and what is relayed as upcoming.
+#include "jetrace/core/tick_ring.hpp"
 #include "jetrace/server/input_queue.hpp"
-#include "jetrace/tick_ring.hpp"
 
 #include <gtest/gtest.h>
 

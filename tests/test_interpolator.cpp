@@ -2,11 +2,11 @@
 // snapshots around the render tick, never beyond the newest, and never along
 // the line from where a car was to where it respawned; its own one where it
 // is predicted, a correction fading out, unless the correction is a respawn.
-#include "jetrace/builtin_tracks.hpp"
+#include "jetrace/ai/offline_race.hpp"
 #include "jetrace/client/interpolator.hpp"
 #include "jetrace/client/snapshot_store.hpp"
-#include "jetrace/offline_race.hpp"
 #include "jetrace/proto/world_codec.hpp"
+#include "jetrace/tracks/builtin_tracks.hpp"
 
 #include <gtest/gtest.h>
 

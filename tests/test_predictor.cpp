@@ -4,9 +4,9 @@
 // known inputs for every tick and every car. Snapshots of an offline AI race
 // (the server's side) come every 2 ticks, some late or missing, each with a
 // random number of the upcoming inputs; the seed is printed.
-#include "jetrace/builtin_tracks.hpp"
+#include "jetrace/ai/offline_race.hpp"
 #include "jetrace/client/predictor.hpp"
-#include "jetrace/offline_race.hpp"
+#include "jetrace/tracks/builtin_tracks.hpp"
 
 #include <gtest/gtest.h>
 
@@ -29,10 +29,11 @@ ServerRun run_server(const jetrace::Scene& scene, int cars, std::uint32_t ticks)
     ServerRun run;
     WorldState w = jetrace::start_race(scene, cars, 1);
     const auto skills = jetrace::skills_for(cars, 7);
+    const jetrace::Course course(scene);
     jetrace::StepScratch scratch;
     for (std::uint32_t t = 0; t < ticks; ++t) {
         std::vector<Input> in(w.cars.size());
-        for (int s = 0; s < cars; ++s) in[static_cast<std::size_t>(s)] = jetrace::drive(scene, w, s, skills[s]);
+        for (int s = 0; s < cars; ++s) in[static_cast<std::size_t>(s)] = jetrace::drive(course, w, s, skills[s]);
         run.worlds.push_back(w);
         run.inputs.push_back(in);
         jetrace::step(scene, w, in, scratch);

@@ -2,9 +2,9 @@
 // compiled track assemble into that track; a chunk of the wrong length, out
 // of order or unasked for, a file over the cap or of another track is
 // refused with its reason.
-#include "jetrace/builtin_tracks.hpp"
 #include "jetrace/client/track_download.hpp"
-#include "jetrace/jtrack.hpp"
+#include "jetrace/tracks/builtin_tracks.hpp"
+#include "jetrace/tracks/jtrack.hpp"
 
 #include <gtest/gtest.h>
 

@@ -4,8 +4,8 @@
 // TrackRequests, checks it and races on it. A chunk corrupted, out of order
 // or a file over the client's cap closes the client with local_bad_track;
 // a request beyond the file gets the requester dropped.
-#include "jetrace/builtin_tracks.hpp"
-#include "jetrace/track_io.hpp"
+#include "jetrace/tracks/builtin_tracks.hpp"
+#include "jetrace/tracks/track_io.hpp"
 #include "support/forwarding_transport.hpp"
 #include "support/live_race.hpp"
 

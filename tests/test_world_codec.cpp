@@ -2,10 +2,10 @@
 // decode_world): real race states round-trip bit for bit against any
 // baseline; wrong baselines, truncated, mutated and random payloads are
 // rejected without crashing.
-#include "jetrace/builtin_tracks.hpp"
-#include "jetrace/driver_ai.hpp"
-#include "jetrace/offline_race.hpp"
+#include "jetrace/ai/driver_ai.hpp"
+#include "jetrace/ai/offline_race.hpp"
 #include "jetrace/proto/world_codec.hpp"
+#include "jetrace/tracks/builtin_tracks.hpp"
 #include "support/test_seed.hpp"
 #include "support/wire_craft.hpp"
 
@@ -42,6 +42,7 @@ const Race& ring_race() {
         jetrace::WorldState st = jetrace::start_race(r->scene, 8, 2);
         st.start_tick = 60;  // half a second on the grid first
         const auto skills = jetrace::skills_for(8, 5);
+        const jetrace::Course course(r->scene);
         jetrace::StepScratch scratch;
         std::vector<jetrace::Input> inputs(8);
         int after_finish = 0;
@@ -51,7 +52,7 @@ const Race& ring_race() {
             if (t == 700) jetrace::spawn_car(r->scene, st, 7, 7);
             bool all_done = true;
             for (int i = 0; i < 8; ++i) {
-                inputs[i] = jetrace::drive(r->scene, st, i, skills[static_cast<std::size_t>(i)]);
+                inputs[i] = jetrace::drive(course, st, i, skills[static_cast<std::size_t>(i)]);
                 if (st.cars[static_cast<std::size_t>(i)].active && !st.cars[static_cast<std::size_t>(i)].finished)
                     all_done = false;
             }

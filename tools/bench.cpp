@@ -10,12 +10,12 @@
 #include "bench/common.hpp"
 #include "bench/landscape.hpp"
 #include "bench/replay_cost.hpp"
+#include "bench/study.hpp"
 #include "bench/track_load.hpp"
 #include "jetrace/cli/finite.hpp"
-#include "bench/study.hpp"
-#include "jetrace/builtin_tracks.hpp"
-#include "jetrace/track_io.hpp"
-#include "jetrace/world.hpp"
+#include "jetrace/core/world.hpp"
+#include "jetrace/tracks/builtin_tracks.hpp"
+#include "jetrace/tracks/track_io.hpp"
 #ifdef JETRACE_HAVE_BULLET
 #include "bench/bullet.hpp"
 #endif

@@ -5,7 +5,7 @@
 #   wasm     emscripten into build-wasm/, run under node,
 # (aarch64 and wasm: JETRACE_PORTABLE_ONLY, Ninja, Release, -O2), runs
 # `jetrace-verify --golden` on each, and fails unless all three print the
-# golden state hash pinned in tests/test_determinism.cpp (kGoldenStadiumHash).
+# golden state hash pinned in tests/core/test_determinism.cpp (kGoldenStadiumHash).
 # Then a race of the x86-64 jetrace-server with 3 jetrace-bot drivers (ring, 1
 # lap, 4x real time) is recorded as a signed replay; jetrace-sim --verify
 # --key checks it natively, and jetrace-verify on every platform must find
@@ -60,8 +60,8 @@ json_field() {
 # The golden race: the same state hash everywhere, and the pinned one.
 check_golden() {
   local golden line hash
-  golden="$(sed -n 's/.*kGoldenStadiumHash = 0x\([0-9a-f]\{16\}\)ull;.*/\1/p' "$root/tests/test_determinism.cpp")"
-  [ "${#golden}" -eq 16 ] || fail "kGoldenStadiumHash not found in tests/test_determinism.cpp"
+  golden="$(sed -n 's/.*kGoldenStadiumHash = 0x\([0-9a-f]\{16\}\)ull;.*/\1/p' "$root/tests/core/test_determinism.cpp")"
+  [ "${#golden}" -eq 16 ] || fail "kGoldenStadiumHash not found in tests/core/test_determinism.cpp"
   declare -A ns
   local bad=0
   for p in "${platforms[@]}"; do

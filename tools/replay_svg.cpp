@@ -2,7 +2,7 @@
 
 #include "jetrace/replay/scanner.hpp"
 #include "jetrace/replay/scene_for.hpp"
-#include "jetrace/track_io.hpp"
+#include "jetrace/tracks/track_io.hpp"
 #include "track/track_svg.hpp"
 
 #include <cstdio>

@@ -1,11 +1,11 @@
 // jetrace-sim: an offline race of AI cars (optionally recorded as a
 // replay), or one of the replay checks (sim_replay.hpp).
+#include "jetrace/ai/offline_race.hpp"
 #include "jetrace/auth/key_file.hpp"
 #include "jetrace/cli/finite.hpp"
-#include "jetrace/offline_race.hpp"
-#include "jetrace/race.hpp"
+#include "jetrace/core/race.hpp"
 #include "jetrace/replay/writer.hpp"
-#include "jetrace/track_io.hpp"
+#include "jetrace/tracks/track_io.hpp"
 #include "replay_svg.hpp"
 #include "sim_replay.hpp"
 
@@ -83,11 +83,12 @@ int run_race(const RaceArgs& a) {
     jetrace::replay::Recorder recorder(writer);
     if (!a.record.empty() && !open_recording(a, scene, state, writer)) return 2;
     const auto skills = jetrace::skills_for(a.cars, a.seed);
+    const jetrace::Course course(scene);
     jetrace::StepScratch scratch;
     const auto ticks = static_cast<std::uint32_t>(a.seconds * physics.tick_rate_hz + 0.5);
 
     const auto t0 = std::chrono::steady_clock::now();
-    jetrace::run_ai(scene, state, skills, ticks, false, scratch, a.record.empty() ? nullptr : &recorder);
+    jetrace::run_ai(course, state, skills, ticks, false, scratch, a.record.empty() ? nullptr : &recorder);
     const auto t1 = std::chrono::steady_clock::now();
     const double wall_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
 

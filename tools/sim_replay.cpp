@@ -2,10 +2,10 @@
 
 #include "jetrace/auth/key_file.hpp"
 #include "jetrace/replay/diff.hpp"
-#include "jetrace/replay/scene_for.hpp"
 #include "jetrace/replay/scanner.hpp"
+#include "jetrace/replay/scene_for.hpp"
 #include "jetrace/replay/synctest.hpp"
-#include "jetrace/track_io.hpp"
+#include "jetrace/tracks/track_io.hpp"
 
 #include <cstdio>
 

@@ -6,9 +6,9 @@
 //   jetrace-verify FILE [--expect HASH] [--signer KEY]   a replay on a built-in track: every
 //       record, checkpoint, the trailer and (where this build has libsodium)
 //       the signature, as jetrace-sim --verify does; exit 0 only if all hold
-#include "jetrace/builtin_tracks.hpp"
-#include "jetrace/offline_race.hpp"
+#include "jetrace/ai/offline_race.hpp"
 #include "jetrace/replay/scene_for.hpp"
+#include "jetrace/tracks/builtin_tracks.hpp"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -32,7 +32,7 @@ constexpr const char* kPlatform = "x86_64";
 constexpr const char* kPlatform = "unknown";
 #endif
 
-// The race of tests/test_determinism.cpp's GoldenStadiumRace (whose
+// The race of tests/core/test_determinism.cpp's GoldenStadiumRace (whose
 // kGoldenStadiumHash tools/cross.sh compares the printed hash with): 8 AI
 // cars, 60 simulated seconds on `stadium`, skills seed 1, 3 laps, default
 // PhysicsSettings.
@@ -65,11 +65,12 @@ bool run_race(const AiRace& race, RaceResult& out) {
     const jetrace::Scene scene = jetrace::Scene::make(std::move(track), physics);
     jetrace::WorldState state = jetrace::start_race(scene, race.cars, race.laps);
     const auto skills = jetrace::skills_for(race.cars, race.seed);
+    const jetrace::Course course(scene);
     jetrace::StepScratch scratch;
     const auto ticks = static_cast<std::uint32_t>(race.seconds * physics.tick_rate_hz);
 
     const auto t0 = std::chrono::steady_clock::now();
-    jetrace::run_ai(scene, state, skills, ticks, false, scratch);
+    jetrace::run_ai(course, state, skills, ticks, false, scratch);
     const auto t1 = std::chrono::steady_clock::now();
 
     out.state_hash = jetrace::state_hash(state);
@@ -132,7 +133,7 @@ int run_verify(const std::string& path, const std::string& expect, const std::st
         return 2;
     }
     const auto t0 = std::chrono::steady_clock::now();
-    const replay::Verdict v = replay::verify(src, replay::scene_for(replay::load_builtin), options);
+    const replay::Verdict v = replay::verify(src, replay::scene_for(jetrace::load_builtin), options);
     const auto t1 = std::chrono::steady_clock::now();
     nlohmann::ordered_json line;
     line["mode"] = "verify";

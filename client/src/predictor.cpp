@@ -1,6 +1,6 @@
 #include "jetrace/client/predictor.hpp"
 
-#include "jetrace/car_fields.hpp"
+#include "jetrace/core/car_fields.hpp"
 
 #include <algorithm>
 #include <cstring>

@@ -1,7 +1,7 @@
 #include "jetrace/client/scene_choice.hpp"
 
-#include "jetrace/builtin_tracks.hpp"
-#include "jetrace/track_io.hpp"
+#include "jetrace/tracks/builtin_tracks.hpp"
+#include "jetrace/tracks/track_io.hpp"
 
 #include <spdlog/spdlog.h>
 

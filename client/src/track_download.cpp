@@ -1,7 +1,7 @@
 #include "jetrace/client/track_download.hpp"
 
-#include "jetrace/jtrack.hpp"
-#include "jetrace/world.hpp"
+#include "jetrace/core/world.hpp"
+#include "jetrace/tracks/jtrack.hpp"
 
 #include <algorithm>
 

@@ -9,7 +9,7 @@
 
 #include "jetrace/cli/finite.hpp"
 #include "jetrace/replay/scene_for.hpp"
-#include "jetrace/track_io.hpp"
+#include "jetrace/tracks/track_io.hpp"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>

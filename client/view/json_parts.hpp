@@ -3,8 +3,8 @@
 // core's doubles, directions and speeds rounded, the track's gates.
 #pragma once
 
-#include "jetrace/track.hpp"
-#include "jetrace/world.hpp"
+#include "jetrace/core/track.hpp"
+#include "jetrace/core/world.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -2,7 +2,7 @@
 
 #include "json_parts.hpp"
 
-#include "jetrace/race.hpp"
+#include "jetrace/core/race.hpp"
 
 namespace jetrace::view {
 

@@ -15,7 +15,7 @@
 #include "jetrace/cli/logging.hpp"
 #include "jetrace/proto/messages.hpp"
 #include "jetrace/replay/scene_for.hpp"
-#include "jetrace/track_io.hpp"
+#include "jetrace/tracks/track_io.hpp"
 
 #include <CLI/CLI.hpp>
 #include <boost/asio/signal_set.hpp>

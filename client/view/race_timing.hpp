@@ -4,8 +4,8 @@
 // was known then).
 #pragma once
 
-#include "jetrace/race.hpp"
-#include "jetrace/world.hpp"
+#include "jetrace/core/race.hpp"
+#include "jetrace/core/world.hpp"
 
 #include <cstdint>
 #include <optional>

@@ -1,7 +1,7 @@
 // Welcome.physics: jetrace::PhysicsSettings <-> its flatbuffers table.
 #pragma once
 
-#include "jetrace/settings.hpp"
+#include "jetrace/core/settings.hpp"
 #include "jetrace_generated.h"
 
 #include <string>

@@ -4,8 +4,8 @@
 // decoding is the exact inverse of encoding on any compiler.
 #pragma once
 
-#include "jetrace/car_fields.hpp"
-#include "jetrace/hovercar.hpp"
+#include "jetrace/core/car_fields.hpp"
+#include "jetrace/core/hovercar.hpp"
 
 #include <algorithm>
 #include <bit>

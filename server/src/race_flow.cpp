@@ -1,5 +1,5 @@
 // RaceServer: the tick, the race phases, snapshots and results.
-#include "jetrace/race.hpp"
+#include "jetrace/core/race.hpp"
 #include "jetrace/replay/format.hpp"
 #include "jetrace/server/race_server.hpp"
 

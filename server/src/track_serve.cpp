@@ -1,9 +1,9 @@
 // RaceServer: the track download: clients without the server's track fetch
 // its compiled .jtrack file chunk by chunk (docs/PROTOCOL.md, "Track
 // download").
-#include "jetrace/builtin_tracks.hpp"
-#include "jetrace/jtrack.hpp"
 #include "jetrace/server/race_server.hpp"
+#include "jetrace/tracks/builtin_tracks.hpp"
+#include "jetrace/tracks/jtrack.hpp"
 
 #include <spdlog/spdlog.h>
 

@@ -2,9 +2,9 @@
 // imported from OBJ files, including shapes it was not tuned on, and of a
 // real levels loaded through their manifests (docs/tracks/zdm2.track.json,
 // docs/tracks/truck_town.track.json).
-#include "jetrace/builtin_tracks.hpp"
-#include "jetrace/offline_race.hpp"
-#include "jetrace/track_io.hpp"
+#include "jetrace/ai/offline_race.hpp"
+#include "jetrace/tracks/builtin_tracks.hpp"
+#include "jetrace/tracks/track_io.hpp"
 
 #include <gtest/gtest.h>
 
@@ -18,7 +18,7 @@ int finishers(jetrace::Track track, int cars, int laps, double seconds, std::uin
     const jetrace::Scene scene = jetrace::Scene::make(std::move(track), jetrace::PhysicsSettings{});
     jetrace::WorldState st = jetrace::start_race(scene, cars, laps);
     jetrace::StepScratch scratch;
-    jetrace::run_ai(scene, st, jetrace::skills_for(cars, seed), static_cast<std::uint32_t>(seconds * 120), true,
+    jetrace::run_ai(jetrace::Course(scene), st, jetrace::skills_for(cars, seed), static_cast<std::uint32_t>(seconds * 120), true,
                     scratch);
     int n = 0;
     for (const auto& c : st.cars) {

@@ -1,8 +1,8 @@
 // The road profile the driving AI reads crests from: heights along the route
 // against the road's own geometry (a tilted plane, a hole, a deck above a
 // floor), and the leg numbering the AI indexes it with.
-#include "jetrace/road_profile.hpp"
-#include "jetrace/world.hpp"
+#include "jetrace/ai/road_profile.hpp"
+#include "jetrace/core/world.hpp"
 
 #include <gtest/gtest.h>
 
@@ -15,6 +15,7 @@ namespace {
 
 using jetrace::Checkpoint;
 using jetrace::Pose;
+using jetrace::RoadProfile;
 using jetrace::Scene;
 using jetrace::Vec3;
 
@@ -46,6 +47,8 @@ Scene scene_of(const std::vector<Vec3>& v, const std::vector<std::uint32_t>& idx
 }
 
 // The point a fraction t along the leg into gate `leg`.
+RoadProfile road_of(const Scene& sc) { return RoadProfile::build(sc.track, sc.grid); }
+
 Vec3 on_leg(const Scene& sc, int leg, double t) {
     const auto& g = sc.track.checkpoints;
     const int n = static_cast<int>(g.size());
@@ -65,21 +68,22 @@ TEST(RoadProfile, FollowsATiltedPlaneAlongEveryLeg) {
         for (int j = -15; j < 15; ++j) add_quad(v, idx, i * 10.0, j * 10.0, i * 10.0 + 10, j * 10.0 + 10, kSlope, 0);
     }
     const Scene sc = scene_of(v, idx, square_route(kSlope));
-    ASSERT_EQ(sc.road.legs(), 4u);
+    const RoadProfile road = road_of(sc);
+    ASSERT_EQ(road.legs(), 4u);
     for (int leg = 0; leg < 4; ++leg) {
         for (int s = 0; s <= 100; ++s) {
             const double t = s / 100.0 + (s % 7) * 1e-3;
             const Vec3 p = on_leg(sc, leg, std::min(t, 1.0));
             double y = 0.0;
-            ASSERT_TRUE(sc.road.height(leg, t, y)) << "leg " << leg << " t " << t;
+            ASSERT_TRUE(road.height(leg, t, y)) << "leg " << leg << " t " << t;
             EXPECT_NEAR(y, kSlope * p.x(), jetrace::RoadProfile::kResolution_m) << "leg " << leg << " t " << t;
         }
     }
     // Legs are numbered modulo the gate count, as the AI counts gates ahead.
     double y0 = 0.0, y1 = 0.0, y2 = 0.0;
-    ASSERT_TRUE(sc.road.height(1, 0.25, y0));
-    ASSERT_TRUE(sc.road.height(5, 0.25, y1));
-    ASSERT_TRUE(sc.road.height(-3, 0.25, y2));
+    ASSERT_TRUE(road.height(1, 0.25, y0));
+    ASSERT_TRUE(road.height(5, 0.25, y1));
+    ASSERT_TRUE(road.height(-3, 0.25, y2));
     EXPECT_EQ(y0, y1);
     EXPECT_EQ(y0, y2);
 }
@@ -95,11 +99,11 @@ TEST(RoadProfile, HasNoRoadOverAHole) {
     add_quad(v, idx, 120, -20, 150, 20, 0, 0);
     const Scene sc = scene_of(v, idx, square_route(0));
     double y = 0.0;
-    EXPECT_FALSE(sc.road.height(1, 0.5, y));     // z = 0: over the hole
-    EXPECT_FALSE(sc.road.height(1, 0.42, y));    // z = -16
-    EXPECT_TRUE(sc.road.height(1, 0.3, y));      // z = -40
+    EXPECT_FALSE(road_of(sc).height(1, 0.5, y));     // z = 0: over the hole
+    EXPECT_FALSE(road_of(sc).height(1, 0.42, y));    // z = -16
+    EXPECT_TRUE(road_of(sc).height(1, 0.3, y));      // z = -40
     EXPECT_EQ(y, 0.0);
-    EXPECT_TRUE(sc.road.height(2, 0.5, y));      // another leg
+    EXPECT_TRUE(road_of(sc).height(2, 0.5, y));      // another leg
 }
 
 TEST(RoadProfile, ReadsTheRoadNearestBelowTheRouteNotADeckAboveOrAFloorFarBelow) {
@@ -111,18 +115,18 @@ TEST(RoadProfile, ReadsTheRoadNearestBelowTheRouteNotADeckAboveOrAFloorFarBelow)
     // Under the deck (route at y = 1, the deck 9 m above): the floor.
     const Scene under = scene_of(v, idx, gates);
     double y = -1.0;
-    ASSERT_TRUE(under.road.height(1, 0.5, y));
+    ASSERT_TRUE(road_of(under).height(1, 0.5, y));
     EXPECT_EQ(y, 0.0);
     // On the deck (the route lifted to y = 11 at gates 0 and 1): the deck,
     // though the floor is below it within the probe.
     gates[0].center.y() = 11;
     gates[1].center.y() = 11;
     const Scene over = scene_of(v, idx, gates);
-    ASSERT_TRUE(over.road.height(1, 0.5, y));
+    ASSERT_TRUE(road_of(over).height(1, 0.5, y));
     EXPECT_EQ(y, 10.0);
     // Far above every road: none.
     gates[0].center.y() = 60;
     gates[1].center.y() = 60;
     const Scene high = scene_of(v, idx, gates);
-    EXPECT_FALSE(high.road.height(1, 0.5, y));
+    EXPECT_FALSE(road_of(high).height(1, 0.5, y));
 }

@@ -6,11 +6,11 @@
 #include "static_files.hpp"
 #include "world_json.hpp"
 
-#include "jetrace/builtin_tracks.hpp"
-#include "jetrace/offline_race.hpp"
-#include "jetrace/race.hpp"
+#include "jetrace/ai/offline_race.hpp"
+#include "jetrace/core/race.hpp"
 #include "jetrace/replay/scene_for.hpp"
 #include "jetrace/replay/writer.hpp"
+#include "jetrace/tracks/builtin_tracks.hpp"
 
 #include <gtest/gtest.h>
 
@@ -105,13 +105,13 @@ protected:
         HashingRecorder observer(rec, hashes_);
         ASSERT_TRUE(w.open(path_, replay::header_for(*scene_, s)));
         StepScratch scratch;
-        run_ai(*scene_, s, skills_for(3, 7), kTicks, false, scratch, &observer);
+        run_ai(Course(*scene_), s, skills_for(3, 7), kTicks, false, scratch, &observer);
         ASSERT_TRUE(w.finish(replay::trailer_for(*scene_, s, replay::EndReason::time_limit)));
         player_ = std::make_unique<ReplayPlayer>();
         std::string error;
         PlayerLimits limits;
         limits.keep_every_ticks = 100;
-        ASSERT_TRUE(player_->load(path_, replay::scene_for(replay::load_builtin), limits, error)) << error;
+        ASSERT_TRUE(player_->load(path_, replay::scene_for(load_builtin), limits, error)) << error;
     }
     static void TearDownTestSuite() {
         std::filesystem::remove(path_);
@@ -197,11 +197,11 @@ TEST(ReplayNames, InvalidUtf8IsReplacedNotThrown) {
     replay::Recorder rec(w);
     ASSERT_TRUE(w.open(path, h));
     StepScratch scratch;
-    run_ai(scene, s, skills_for(2, 1), 30, false, scratch, &rec);
+    run_ai(Course(scene), s, skills_for(2, 1), 30, false, scratch, &rec);
     ASSERT_TRUE(w.finish(replay::trailer_for(scene, s, replay::EndReason::time_limit)));
     ReplayPlayer p;
     std::string error;
-    ASSERT_TRUE(p.load(path, replay::scene_for(replay::load_builtin), {}, error)) << error;
+    ASSERT_TRUE(p.load(path, replay::scene_for(load_builtin), {}, error)) << error;
     std::filesystem::remove(path);
     const Playback pb(p, {});
     std::string hello, frame;
@@ -225,7 +225,7 @@ TEST_F(RecordedRace, RefusesAnAlteredReplay) {
     std::fclose(f);
     ReplayPlayer p;
     std::string error;
-    EXPECT_FALSE(p.load(bad, replay::scene_for(replay::load_builtin), {}, error));
+    EXPECT_FALSE(p.load(bad, replay::scene_for(load_builtin), {}, error));
     EXPECT_NE(error.find("corrupt"), std::string::npos) << error;
     std::filesystem::remove(bad);
 }

@@ -10,9 +10,9 @@
 // (SCOPED_TRACE) and records it as the test property "seed", so a failure
 // can be replayed with
 //   JETRACE_TEST_SEED=<seed> ./test_candidates --gtest_filter=<test>
-#include "jetrace/geometry.hpp"
-#include "jetrace/candidates.hpp"
-#include "jetrace/resolver.hpp"
+#include "jetrace/core/candidates.hpp"
+#include "jetrace/core/geometry.hpp"
+#include "jetrace/core/resolver.hpp"
 
 #include "support/random_geometry.hpp"
 

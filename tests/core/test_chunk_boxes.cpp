@@ -10,8 +10,8 @@
 //
 // Random tests draw from std::mt19937_64 (JETRACE_TEST_SEED replays one;
 // see tests/support/test_seed.hpp).
-#include "jetrace/chunk_boxes.hpp"
-#include "jetrace/uniform_grid.hpp"
+#include "jetrace/core/chunk_boxes.hpp"
+#include "jetrace/core/uniform_grid.hpp"
 
 #include "support/random_geometry.hpp"
 

@@ -8,7 +8,7 @@
 // (SCOPED_TRACE) and records it as the test property "seed" (visible with
 // --gtest_output=xml), so a failure can be replayed with
 //   JETRACE_TEST_SEED=<seed> ./test_closest_point --gtest_filter=<test>
-#include "jetrace/geometry.hpp"
+#include "jetrace/core/geometry.hpp"
 
 #include "support/random_geometry.hpp"
 

@@ -1,8 +1,8 @@
 // Determinism: the pinned golden hash of a fixed race (Box2D's
 // EXPECTED_HASH), identical under g++ and clang++ at -O0 and -O2 (tools/test.sh
 // builds this test in those configurations), and repeatability in-process.
-#include "jetrace/builtin_tracks.hpp"
-#include "jetrace/offline_race.hpp"
+#include "jetrace/ai/offline_race.hpp"
+#include "jetrace/tracks/builtin_tracks.hpp"
 
 #include <gtest/gtest.h>
 
@@ -20,7 +20,7 @@ std::uint64_t race_hash(const std::string& track_name, int cars, std::uint32_t t
     const jetrace::Scene scene = jetrace::Scene::make(std::move(track), jetrace::PhysicsSettings{});
     jetrace::WorldState st = jetrace::start_race(scene, cars, 3);
     jetrace::StepScratch scratch;
-    jetrace::run_ai(scene, st, jetrace::skills_for(cars, seed), ticks, false, scratch);
+    jetrace::run_ai(jetrace::Course(scene), st, jetrace::skills_for(cars, seed), ticks, false, scratch);
     return jetrace::state_hash(st);
 }
 

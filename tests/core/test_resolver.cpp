@@ -2,15 +2,15 @@
 // the seed's fall through the floor, grip and drift, the stadium wall,
 // save/restore and broadphase independence. Random parts (AI driver
 // skills, headings) are seeded as test_scenes.hpp describes.
-#include "jetrace/builtin_tracks.hpp"
-#include "jetrace/driver_ai.hpp"
-#include "jetrace/hovercar.hpp"
-#include "jetrace/offline_race.hpp"
-#include "jetrace/race.hpp"
-#include "jetrace/resolver.hpp"
-#include "jetrace/settings.hpp"
-#include "jetrace/track.hpp"
-#include "jetrace/world.hpp"
+#include "jetrace/ai/driver_ai.hpp"
+#include "jetrace/ai/offline_race.hpp"
+#include "jetrace/core/hovercar.hpp"
+#include "jetrace/core/race.hpp"
+#include "jetrace/core/resolver.hpp"
+#include "jetrace/core/settings.hpp"
+#include "jetrace/core/track.hpp"
+#include "jetrace/core/world.hpp"
+#include "jetrace/tracks/builtin_tracks.hpp"
 #include "support/test_scenes.hpp"
 
 #include <gtest/gtest.h>
@@ -368,7 +368,8 @@ TEST(Resolver, SaveRestoreRoundTrip) {
     const std::vector<DriverSkill> skills = skills_for(8, rng());
     WorldState original = start_race(sc, 8, 3);
     StepScratch warm;
-    run_ai(sc, original, skills, 600, false, warm);
+    const Course course(sc);
+    run_ai(course, original, skills, 600, false, warm);
     ASSERT_EQ(original.tick, 600u);
 
     const WorldState saved = original;  // save = copy
@@ -381,9 +382,9 @@ TEST(Resolver, SaveRestoreRoundTrip) {
     const std::uint64_t h600 = state_hash(original);
     for (int t = 0; t < 1200; ++t) {
         for (int i = 0; i < 8; ++i) {
-            inputs[static_cast<std::size_t>(i)] = drive(sc, original, i, skills[static_cast<std::size_t>(i)]);
+            inputs[static_cast<std::size_t>(i)] = drive(course, original, i, skills[static_cast<std::size_t>(i)]);
             inputs_restored[static_cast<std::size_t>(i)] =
-                drive(sc, restored.state(), i, skills[static_cast<std::size_t>(i)]);
+                drive(course, restored.state(), i, skills[static_cast<std::size_t>(i)]);
         }
         ASSERT_EQ(inputs, inputs_restored) << "tick " << original.tick;
         step(sc, original, inputs, warm);
@@ -418,13 +419,14 @@ void broadphases_agree(const Track& track, int cars, int ticks, std::uint64_t se
     ASSERT_EQ(grid.broadphase, Broadphase::grid);
     const std::vector<DriverSkill> skills = skills_for(cars, seed);
     WorldState a = start_race(grid, cars, 2), b = start_race(brute, cars, 2);
+    const Course grid_course(grid), brute_course(brute);
     StepScratch sa, sb;
     std::vector<Input> ia(static_cast<std::size_t>(cars)), ib(static_cast<std::size_t>(cars));
     std::int64_t pushes = 0;
     for (int t = 0; t < ticks; ++t) {
         for (int i = 0; i < cars; ++i) {
-            ia[static_cast<std::size_t>(i)] = drive(grid, a, i, skills[static_cast<std::size_t>(i)]);
-            ib[static_cast<std::size_t>(i)] = drive(brute, b, i, skills[static_cast<std::size_t>(i)]);
+            ia[static_cast<std::size_t>(i)] = drive(grid_course, a, i, skills[static_cast<std::size_t>(i)]);
+            ib[static_cast<std::size_t>(i)] = drive(brute_course, b, i, skills[static_cast<std::size_t>(i)]);
         }
         step(grid, a, ia, sa);
         step(brute, b, ib, sb);

@@ -10,11 +10,11 @@
 // (SCOPED_TRACE) and records it as the test property "seed" (visible with
 // --gtest_output=xml), so a failure can be replayed with
 //   JETRACE_TEST_SEED=<seed> ./test_sparse_grid --gtest_filter=<test>
-#include "jetrace/builtin_tracks.hpp"
-#include "jetrace/geometry.hpp"
-#include "jetrace/settings.hpp"
-#include "jetrace/track.hpp"
-#include "jetrace/uniform_grid.hpp"
+#include "jetrace/core/geometry.hpp"
+#include "jetrace/core/settings.hpp"
+#include "jetrace/core/track.hpp"
+#include "jetrace/core/uniform_grid.hpp"
+#include "jetrace/tracks/builtin_tracks.hpp"
 
 #include "support/random_geometry.hpp"
 

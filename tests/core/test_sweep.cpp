@@ -2,7 +2,7 @@
 // triangle in each feature region. The whole step against a zero-thickness
 // wall (no pass-through to 2,000 m/s in the default mode; the discrete
 // push-out's limit at r/dt) is in test_failure_modes.cpp.
-#include "jetrace/sweep.hpp"
+#include "jetrace/core/sweep.hpp"
 
 #include <gtest/gtest.h>
 

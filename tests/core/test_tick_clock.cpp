@@ -1,5 +1,5 @@
 // TickClock: the fixed-step clock of the server and the client.
-#include "jetrace/tick_clock.hpp"
+#include "jetrace/core/tick_clock.hpp"
 
 #include <gtest/gtest.h>
 

@@ -4,15 +4,15 @@
 // in any record is corruption; tampering that keeps the CRCs right is caught
 // by the checkpoints, the trailer or the signature; the desync finder names
 // the first differing tick, cars and fields; SyncTest holds on real races.
+#include "jetrace/ai/offline_race.hpp"
 #include "jetrace/auth/connect_token.hpp"
-#include "jetrace/builtin_tracks.hpp"
-#include "jetrace/offline_race.hpp"
-#include "jetrace/replay/crc32c.hpp"
+#include "jetrace/core/crc32c.hpp"
+#include "jetrace/core/state_bytes.hpp"
 #include "jetrace/replay/diff.hpp"
 #include "jetrace/replay/scene_for.hpp"
 #include "jetrace/replay/synctest.hpp"
 #include "jetrace/replay/writer.hpp"
-#include "jetrace/state_bytes.hpp"
+#include "jetrace/tracks/builtin_tracks.hpp"
 
 #include <gtest/gtest.h>
 
@@ -63,7 +63,7 @@ Recording record(const Scene& run_on, int cars, double seconds, std::uint64_t se
     EXPECT_TRUE(w.open(path, h, key)) << w.error();
     Recorder rec(w);
     StepScratch scratch;
-    run_ai(run_on, st, skills_for(cars, seed), static_cast<std::uint32_t>(seconds * 120), false, scratch, &rec);
+    run_ai(Course(run_on), st, skills_for(cars, seed), static_cast<std::uint32_t>(seconds * 120), false, scratch, &rec);
     const Trailer t = trailer_for(run_on, st, EndReason::time_limit);
     EXPECT_TRUE(w.finish(t)) << w.error();
     Recording r{slurp(path), t.final_state_hash};

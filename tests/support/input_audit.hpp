@@ -11,7 +11,7 @@
 #pragma once
 
 #include "forwarding_transport.hpp"
-#include "jetrace/hovercar.hpp"
+#include "jetrace/core/hovercar.hpp"
 #include "jetrace/proto/messages.hpp"
 #include "jetrace/server/race_observer.hpp"
 

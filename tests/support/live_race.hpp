@@ -9,14 +9,14 @@
 // client replaces by reconnecting.
 #pragma once
 
-#include "jetrace/builtin_tracks.hpp"
+#include "input_audit.hpp"
+#include "jetrace/ai/driver_ai.hpp"
+#include "jetrace/ai/offline_race.hpp"
 #include "jetrace/client/race_client.hpp"
-#include "jetrace/driver_ai.hpp"
-#include "jetrace/offline_race.hpp"
 #include "jetrace/replay/diff.hpp"
 #include "jetrace/server/race_server.hpp"
 #include "jetrace/server/replay_recorder.hpp"
-#include "input_audit.hpp"
+#include "jetrace/tracks/builtin_tracks.hpp"
 #include "raw_client.hpp"
 #include "severable.hpp"
 
@@ -107,6 +107,7 @@ struct Bot {
     std::unique_ptr<net::Transport> net;
     std::unique_ptr<client::RaceClient> client;
     DriverSkill skill;
+    CourseCache course;  // the AI's view of the scene the client races on
     /// The current connection of a bot from add_bot(), which the test may cut.
     Severable* link = nullptr;
     /// Not updated any more: its ENet host falls silent (LiveRace::freeze_bot()).
@@ -254,8 +255,9 @@ public:
         for (const auto& b : bots_) {
             if (b->frozen || std::find(paused.begin(), paused.end(), b.get()) != paused.end()) continue;
             const DriverSkill skill = b->skill;
-            b->client->update(now_us_, [skill](const Scene& sc, const WorldState& w, int slot) {
-                return drive(sc, w, slot, skill);
+            CourseCache& course = b->course;
+            b->client->update(now_us_, [skill, &course](const Scene& sc, const WorldState& w, int slot) {
+                return drive(course(sc), w, slot, skill);
             });
         }
         for (auto& r : raws_) {

@@ -12,7 +12,7 @@
 // (test_seed.hpp does all of that).
 #pragma once
 
-#include "jetrace/geometry.hpp"
+#include "jetrace/core/geometry.hpp"
 #include "test_seed.hpp"
 #include "vec_str.hpp"
 

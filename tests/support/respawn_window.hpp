@@ -6,7 +6,7 @@
 // before the respawn instead.
 #pragma once
 
-#include "jetrace/world.hpp"
+#include "jetrace/core/world.hpp"
 
 #include <cstdint>
 #include <vector>

@@ -9,9 +9,9 @@
 //   JETRACE_TEST_SEED=<seed> ./<test binary> --gtest_filter=<test>
 #pragma once
 
-#include "jetrace/hovercar.hpp"
-#include "jetrace/track.hpp"
-#include "jetrace/world.hpp"
+#include "jetrace/core/hovercar.hpp"
+#include "jetrace/core/track.hpp"
+#include "jetrace/core/world.hpp"
 #include "lab/scenes.hpp"
 #include "test_seed.hpp"
 #include "vec_str.hpp"

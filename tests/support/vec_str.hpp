@@ -2,7 +2,7 @@
 // messages that must show every bit that differs.
 #pragma once
 
-#include "jetrace/math.hpp"
+#include "jetrace/core/math.hpp"
 
 #include <sstream>
 #include <string>

@@ -2,8 +2,8 @@
 // scripted client tests' first message.
 #pragma once
 
+#include "jetrace/core/world.hpp"
 #include "jetrace/proto/messages.hpp"
-#include "jetrace/world.hpp"
 
 #include <cstdint>
 

@@ -1,8 +1,8 @@
 // glTF 2.0 import (docs/TRACKS.md, "glTF"): a small file written here, as
 // .gltf + .bin and as .glb, against the triangles its node transforms give;
 // then malformed files, each refused with its reason.
-#include "jetrace/mesh_import.hpp"
-#include "jetrace/track_io.hpp"
+#include "jetrace/tracks/mesh_import.hpp"
+#include "jetrace/tracks/track_io.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

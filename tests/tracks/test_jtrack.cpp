@@ -2,11 +2,11 @@
 // back with the same triangles, gates, spawns and identity, raced to the
 // same state hash as the source; corrupt and truncated files refused with a
 // message naming the problem. About 5 s (the real level's manifest load).
-#include "jetrace/jtrack.hpp"
-#include "jetrace/builtin_tracks.hpp"
-#include "jetrace/offline_race.hpp"
-#include "jetrace/replay/crc32c.hpp"
-#include "jetrace/track_io.hpp"
+#include "jetrace/ai/offline_race.hpp"
+#include "jetrace/core/crc32c.hpp"
+#include "jetrace/tracks/builtin_tracks.hpp"
+#include "jetrace/tracks/jtrack.hpp"
+#include "jetrace/tracks/track_io.hpp"
 
 #include <gtest/gtest.h>
 
@@ -64,7 +64,7 @@ std::uint64_t race_hash(Track t) {
     const jetrace::Scene scene = jetrace::Scene::make(std::move(t), jetrace::PhysicsSettings{});
     jetrace::WorldState w = jetrace::start_race(scene, 4, 1);
     jetrace::StepScratch scratch;
-    jetrace::run_ai(scene, w, jetrace::skills_for(4, 7), 600, false, scratch);
+    jetrace::run_ai(jetrace::Course(scene), w, jetrace::skills_for(4, 7), 600, false, scratch);
     return jetrace::state_hash(w);
 }
 
@@ -83,8 +83,8 @@ void put_u32(Bytes& b, std::size_t at, std::uint32_t v) {
 
 // Re-seals both checksums, so that only the damage under test remains.
 void reseal(Bytes& b) {
-    put_u32(b, 56, jetrace::replay::crc32c(std::span<const std::uint8_t>(b).subspan(64)));
-    put_u32(b, 60, jetrace::replay::crc32c(std::span<const std::uint8_t>(b.data(), 60)));
+    put_u32(b, 56, jetrace::crc32c(std::span<const std::uint8_t>(b).subspan(64)));
+    put_u32(b, 60, jetrace::crc32c(std::span<const std::uint8_t>(b.data(), 60)));
 }
 
 std::string temp_path(const char* name) {
@@ -232,13 +232,13 @@ namespace {
 TEST(Jtrack, Crc32cContinuesAcrossAnySplit) {
     std::vector<std::uint8_t> b(67);
     for (std::size_t i = 0; i < b.size(); ++i) b[i] = static_cast<std::uint8_t>(i * 37 + 11);
-    const std::uint32_t whole = jetrace::replay::crc32c(b);
+    const std::uint32_t whole = jetrace::crc32c(b);
     std::uint32_t bytewise = 0;
-    for (std::uint8_t x : b) bytewise = jetrace::replay::crc32c(std::span<const std::uint8_t>(&x, 1), bytewise);
+    for (std::uint8_t x : b) bytewise = jetrace::crc32c(std::span<const std::uint8_t>(&x, 1), bytewise);
     EXPECT_EQ(whole, bytewise);
     for (std::size_t cut = 0; cut <= b.size(); ++cut) {
         const std::span<const std::uint8_t> s(b);
-        EXPECT_EQ(jetrace::replay::crc32c(s.subspan(cut), jetrace::replay::crc32c(s.first(cut))), whole) << cut;
+        EXPECT_EQ(jetrace::crc32c(s.subspan(cut), jetrace::crc32c(s.first(cut))), whole) << cut;
     }
 }
 
@@ -251,13 +251,13 @@ TEST(Jtrack, Crc32cInstructionAndTablesAgree) {
     for (std::size_t start = 0; start < 9; ++start) {
         for (std::size_t len = 0; start + len <= b.size(); len += 1 + len / 8) {
             const std::span<const std::uint8_t> part = s.subspan(start, len);
-            ASSERT_EQ(jetrace::replay::crc32c(part), jetrace::replay::crc32c_tables(part)) << start << "+" << len;
-            ASSERT_EQ(jetrace::replay::crc32c(part, 0x12345678u), jetrace::replay::crc32c_tables(part, 0x12345678u))
+            ASSERT_EQ(jetrace::crc32c(part), jetrace::crc32c_tables(part)) << start << "+" << len;
+            ASSERT_EQ(jetrace::crc32c(part, 0x12345678u), jetrace::crc32c_tables(part, 0x12345678u))
                 << start << "+" << len << ", continued";
         }
     }
     const std::string nine = "123456789";
-    EXPECT_EQ(jetrace::replay::crc32c_tables({reinterpret_cast<const std::uint8_t*>(nine.data()), nine.size()}),
+    EXPECT_EQ(jetrace::crc32c_tables({reinterpret_cast<const std::uint8_t*>(nine.data()), nine.size()}),
               0xE3069283u);
 }
 

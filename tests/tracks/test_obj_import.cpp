@@ -1,6 +1,6 @@
 // Wavefront OBJ import/export (docs/TRACKS.md).
-#include "jetrace/builtin_tracks.hpp"
-#include "jetrace/track_io.hpp"
+#include "jetrace/tracks/builtin_tracks.hpp"
+#include "jetrace/tracks/track_io.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // The two real levels beside the repository (../shared/tracks: glTF exports of
 // other games' maps) load through their manifests in docs/tracks/. These
 // fail, not skip, when the meshes are missing: the manifests point at them.
-#include "jetrace/track_io.hpp"
+#include "jetrace/tracks/track_io.hpp"
 
 #include <gtest/gtest.h>
 

@@ -2,8 +2,8 @@
 // generated from a route on a mesh made here, explicit gates, and every
 // check's message (a gate wound against the route, out of order, off the
 // road, under a roof; low clearance on the route; degenerate triangles).
-#include "jetrace/track_io.hpp"
-#include "jetrace/track_manifest.hpp"
+#include "jetrace/tracks/track_io.hpp"
+#include "jetrace/tracks/track_manifest.hpp"
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 // output, and the free flight of the `integrators` benchmark.
 #pragma once
 
-#include "jetrace/world.hpp"
+#include "jetrace/core/world.hpp"
 
 #include <chrono>
 #include <cstdio>

@@ -5,8 +5,8 @@
 #include "bench/common.hpp"
 #include "bench/landscape.hpp"
 #include "bench/track_load.hpp"
-#include "jetrace/offline_race.hpp"
-#include "jetrace/track_io.hpp"
+#include "jetrace/ai/offline_race.hpp"
+#include "jetrace/tracks/track_io.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -29,12 +29,13 @@ Recorded record(const Scene& sc, const WorldState& start, int ticks) {
     const std::vector<DriverSkill> skills = skills_for(kCars, 1);
     WorldState state = start;
     StepScratch scratch;
+    const Course course(sc);
     double gathered = 0;
     double ai_ns = 0;
     for (int t = 0; t < ticks; ++t) {
         Input* in = &r.inputs[static_cast<std::size_t>(kCars) * static_cast<std::size_t>(t)];
         const CpuTimer ai;
-        for (int i = 0; i < kCars; ++i) in[i] = drive(sc, state, i, skills[static_cast<std::size_t>(i)]);
+        for (int i = 0; i < kCars; ++i) in[i] = drive(course, state, i, skills[static_cast<std::size_t>(i)]);
         ai_ns += ai.ns();
         step(sc, state, std::span<const Input>(in, kCars), scratch);
         for (const CarScratch& c : scratch.cars) gathered += static_cast<double>(c.candidates.triangles.size());

@@ -4,7 +4,7 @@
 // lap of 16 gates on a 350 m circle and 8 (up to 64) spawn slots behind gate 0.
 #pragma once
 
-#include "jetrace/track.hpp"
+#include "jetrace/core/track.hpp"
 
 namespace jetrace::bench {
 

@@ -1,11 +1,11 @@
 #include "bench/replay_cost.hpp"
 
 #include "bench/common.hpp"
+#include "jetrace/ai/offline_race.hpp"
 #include "jetrace/auth/connect_token.hpp"
-#include "jetrace/builtin_tracks.hpp"
-#include "jetrace/offline_race.hpp"
 #include "jetrace/replay/scene_for.hpp"
 #include "jetrace/replay/writer.hpp"
+#include "jetrace/tracks/builtin_tracks.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -65,7 +65,7 @@ Race ai_race(const Scene& scene, const ReplayCostOptions& o) {
         WorldState st = race.start;
         StepScratch scratch;
         InputTape tape(race);
-        run_ai(scene, st, skills_for(o.cars, 1), static_cast<std::uint32_t>(o.seconds * 120 + 0.5), false, scratch, &tape);
+        run_ai(Course(scene), st, skills_for(o.cars, 1), static_cast<std::uint32_t>(o.seconds * 120 + 0.5), false, scratch, &tape);
     }
     return race;
 }
@@ -96,7 +96,7 @@ int run_replay_cost(const ReplayCostOptions& o) {
         std::string error;
         src.open(signed_path, error, replay::kMaxFileBytes);
         const auto t0 = Clock::now();
-        const replay::Verdict v = replay::verify(src, replay::scene_for(replay::load_builtin));
+        const replay::Verdict v = replay::verify(src, replay::scene_for(load_builtin));
         verify_ms.push_back(ns_since(t0) / 1e6);
         if (!v.ok) {
             std::fprintf(stderr, "jetrace-bench replay: the replay does not verify: %s\n", replay::to_json(v).c_str());

@@ -11,9 +11,9 @@
 // Only step() is timed (thread CPU time); the AI's inputs are computed
 // outside the clock.
 #include "bench/study.hpp"
-#include "jetrace/driver_ai.hpp"
-#include "jetrace/offline_race.hpp"
-#include "jetrace/race.hpp"
+#include "jetrace/ai/driver_ai.hpp"
+#include "jetrace/ai/offline_race.hpp"
+#include "jetrace/core/race.hpp"
 #include "lab/scenes.hpp"
 
 #include <algorithm>
@@ -39,11 +39,12 @@ Timing race(const Scene& sc, const WorldState& start, int ticks, bool time_colli
     const std::vector<DriverSkill> skills = skills_for(n, 1);
     std::vector<Input> inputs(un * static_cast<std::size_t>(ticks));
     StepScratch scratch;
+    const Course course(sc);
     WorldState state = start;
     double collide_ns = 0;
     for (int t = 0; t < ticks; ++t) {
         Input* in = &inputs[un * static_cast<std::size_t>(t)];
-        for (int i = 0; i < n; ++i) in[i] = drive(sc, state, i, skills[static_cast<std::size_t>(i)]);
+        for (int i = 0; i < n; ++i) in[i] = drive(course, state, i, skills[static_cast<std::size_t>(i)]);
         step(sc, state, std::span<const Input>(in, un), scratch);
         if (time_collide) {
             std::vector<CarState> copy = state.cars;

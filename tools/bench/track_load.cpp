@@ -2,8 +2,9 @@
 
 #include "bench/common.hpp"
 #include "bench/landscape.hpp"
-#include "jetrace/jtrack.hpp"
-#include "jetrace/track_io.hpp"
+#include "jetrace/ai/driver_ai.hpp"
+#include "jetrace/tracks/jtrack.hpp"
+#include "jetrace/tracks/track_io.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -25,12 +26,13 @@ double resident_bytes() {
     return resident * 4096.0;
 }
 
-// The bytes a loaded track and its scene hold in their arrays.
-double counted_bytes(const Scene& sc) {
+// The bytes a loaded track, its scene and the AI's road profile of it hold
+// in their arrays.
+double counted_bytes(const Scene& sc, const RoadProfile& road) {
     const Track& t = sc.track;
     return static_cast<double>(sizeof(Scene) + t.name.capacity() + t.triangles.capacity() * sizeof(Triangle) +
                                t.checkpoints.capacity() * sizeof(Checkpoint) + t.spawns.capacity() * sizeof(Pose) +
-                               sc.grid.memory_bytes() + sc.road.memory_bytes());
+                               sc.grid.memory_bytes() + road.memory_bytes());
 }
 
 struct LoadTime {
@@ -92,6 +94,9 @@ int run_track_load(const TrackLoadOptions& o) {
     const auto g0 = Clock::now();
     const Scene scene = Scene::make(std::move(compiled), PhysicsSettings{});
     const double grid_ms = ns_since(g0) / 1e6;
+    const auto r0 = Clock::now();
+    const Course course(scene);
+    const double road_ms = ns_since(r0) / 1e6;
     const double rss1 = resident_bytes();
     const double n = static_cast<double>(scene.track.triangles.size());
     nlohmann::json j;
@@ -110,14 +115,15 @@ int run_track_load(const TrackLoadOptions& o) {
     j["speedup"] = obj_time.wall_ms / jtrack_time.wall_ms;
     j["speedup_cpu"] = obj_time.cpu_ms / jtrack_time.cpu_ms;
     j["grid_build_ms"] = grid_ms;
+    j["road_profile_build_ms"] = road_ms;
     j["grid_cell_m"] = scene.grid.cell_size_m();
     j["identity_equal"] = scene.track.identity() == identity;
     j["triangle_struct_bytes"] = sizeof(Triangle);
     j["track_bytes_per_triangle"] = static_cast<double>(scene.track.triangles.capacity() * sizeof(Triangle)) / n;
     j["grid_bytes_per_triangle"] = static_cast<double>(scene.grid.memory_bytes()) / n;
-    j["road_profile_bytes"] = scene.road.memory_bytes();
+    j["road_profile_bytes"] = course.road().memory_bytes();
     j["grid_entries_per_triangle"] = static_cast<double>(scene.grid.entry_count()) / n;
-    j["counted_bytes_per_triangle"] = counted_bytes(scene) / n;
+    j["counted_bytes_per_triangle"] = counted_bytes(scene, course.road()) / n;
     j["resident_bytes_per_triangle"] = (rss1 - rss0) / n;
     std::printf("%s\n", j.dump().c_str());
     if (own_source) std::filesystem::remove(obj);

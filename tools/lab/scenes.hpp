@@ -4,8 +4,8 @@
 // scenario is written once.
 #pragma once
 
-#include "jetrace/builtin_tracks.hpp"
-#include "jetrace/world.hpp"
+#include "jetrace/core/world.hpp"
+#include "jetrace/tracks/builtin_tracks.hpp"
 
 #include <algorithm>
 #include <cstdint>

@@ -4,8 +4,8 @@
 //   jetrace-track build TRACK --out OUT.jtrack  the compiled track (read back and checked: same identity)
 // TRACK: a built-in name, an .obj file, a .gltf/.glb mesh, a track manifest
 // (.json) or a compiled track (.jtrack). docs/TRACKS.md, "jetrace-track".
-#include "jetrace/jtrack.hpp"
-#include "jetrace/track_io.hpp"
+#include "jetrace/tracks/jtrack.hpp"
+#include "jetrace/tracks/track_io.hpp"
 #include "track_svg.hpp"
 
 #include <CLI/CLI.hpp>

@@ -4,8 +4,8 @@
 // a race, coloured by speed.
 #pragma once
 
-#include "jetrace/track.hpp"
-#include "jetrace/track_manifest.hpp"
+#include "jetrace/core/track.hpp"
+#include "jetrace/tracks/track_manifest.hpp"
 
 #include <span>
 #include <string>

@@ -1,6 +1,6 @@
-#include "jetrace/driver_ai.hpp"
+#include "jetrace/ai/driver_ai.hpp"
 
-#include "jetrace/candidates.hpp"
+#include "jetrace/core/candidates.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -174,10 +174,10 @@ constexpr int kProbes = 16;
 // Highest speed from which the car can slow down, within its braking
 // distance, to the speed at which each crest ahead still holds it on the
 // road: over a crest of vertical radius R the road's push ends at
-// v = sqrt(g R cos(slope)), with R from the scene's road profile along the
+// v = sqrt(g R cos(slope)), with R from the course's road profile along the
 // route (unit: m/s).
-double crest_limit(const Scene& sc, const Route& r, const CarState& car, const Vec3& up, double decel, double horizon,
-                   const DriverSkill& skill) {
+double crest_limit(const Scene& sc, const RoadProfile& road, const Route& r, const CarState& car, const Vec3& up,
+                   double decel, double horizon, const DriverSkill& skill) {
     const int n = std::min(kProbes, static_cast<int>(horizon / kProbeStep_m) + 2);
     double h[kProbes + 1];
     double s[kProbes + 1];
@@ -187,7 +187,7 @@ double crest_limit(const Scene& sc, const Route& r, const CarState& car, const V
     Vec3 prev = points[0].at;
     for (int k = 0; k <= n; ++k) {
         const Vec3& q = points[k].at;
-        ok[k] = sc.road.height(points[k].leg, points[k].t, h[k]);
+        ok[k] = road.height(points[k].leg, points[k].t, h[k]);
         const double dx = q.x() - prev.x(), dz = q.z() - prev.z();
         s[k] = k == 0 ? 0.0 : s[k - 1] + std::sqrt(dx * dx + dz * dz);
         prev = q;
@@ -254,7 +254,18 @@ double crossing_offset(const Scene& sc, const WorldState& state, const Checkpoin
 
 }  // namespace
 
-Input drive(const Scene& sc, const WorldState& state, int slot, const DriverSkill& skill) {
+const Course& CourseCache::operator()(const Scene& scene) {
+    if (!course_ || &course_->scene() != &scene || triangles_ != scene.track.triangles.size() ||
+        gates_ != scene.track.checkpoints.size()) {
+        course_.emplace(scene);
+        triangles_ = scene.track.triangles.size();
+        gates_ = scene.track.checkpoints.size();
+    }
+    return *course_;
+}
+
+Input drive(const Course& course, const WorldState& state, int slot, const DriverSkill& skill) {
+    const Scene& sc = course.scene();
     const CarState& car = state.cars[static_cast<std::size_t>(slot)];
     const auto& gates = sc.track.checkpoints;
     if (!car.active || car.finished || gates.empty()) return Input::clamped(0, 0, 1);
@@ -290,7 +301,7 @@ Input drive(const Scene& sc, const WorldState& state, int slot, const DriverSkil
     if (!steep) {
         const double decel = sc.physics.brake_mps2 * 0.8;
         const double horizon = speed * speed / (2.0 * decel) + 2.0 * kProbeStep_m;
-        limit = std::min(limit, crest_limit(sc, route, car, up, decel, horizon, skill));
+        limit = std::min(limit, crest_limit(sc, course.road(), route, car, up, decel, horizon, skill));
         // Slow enough to reach the aim on the arc through it at the yaw rate
         // the steering gives (radius: distance / (2 sin(heading error))).
         const double arc_sin = d.dot(fwd) > 0.0 ? std::abs(lateral) : 1.0;

@@ -1,4 +1,4 @@
-#include "jetrace/offline_race.hpp"
+#include "jetrace/ai/offline_race.hpp"
 
 #include <random>
 
@@ -22,19 +22,19 @@ WorldState start_race(const Scene& scene, int cars, int laps) {
     return st;
 }
 
-std::uint32_t run_ai(const Scene& scene, WorldState& state, const std::vector<DriverSkill>& skills, std::uint32_t ticks,
+std::uint32_t run_ai(const Course& course, WorldState& state, const std::vector<DriverSkill>& skills, std::uint32_t ticks,
                      bool stop_when_finished, StepScratch& scratch, StepObserver* observer) {
     std::vector<Input> inputs(state.cars.size());
     for (std::uint32_t t = 0; t < ticks; ++t) {
         bool all_done = true;
         for (std::size_t i = 0; i < state.cars.size(); ++i) {
             const DriverSkill skill = i < skills.size() ? skills[i] : DriverSkill{};
-            inputs[i] = drive(scene, state, static_cast<int>(i), skill);
+            inputs[i] = drive(course, state, static_cast<int>(i), skill);
             if (state.cars[i].active && !state.cars[i].finished) all_done = false;
         }
         if (stop_when_finished && all_done) return t;
         if (observer) observer->before_step(state, inputs);
-        step(scene, state, inputs, scratch);
+        step(course.scene(), state, inputs, scratch);
         if (observer) observer->after_step(state);
     }
     return ticks;

@@ -1,4 +1,4 @@
-#include "jetrace/road_profile.hpp"
+#include "jetrace/ai/road_profile.hpp"
 
 #include <algorithm>
 #include <cassert>

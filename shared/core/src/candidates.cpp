@@ -1,4 +1,4 @@
-#include "jetrace/candidates.hpp"
+#include "jetrace/core/candidates.hpp"
 
 #include <bit>
 #include <cassert>

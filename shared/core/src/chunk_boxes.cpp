@@ -1,4 +1,4 @@
-#include "jetrace/chunk_boxes.hpp"
+#include "jetrace/core/chunk_boxes.hpp"
 
 #include <algorithm>
 #include <cmath>

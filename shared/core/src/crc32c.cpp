@@ -1,10 +1,10 @@
-#include "jetrace/replay/crc32c.hpp"
+#include "jetrace/core/crc32c.hpp"
 
 #include <array>
 #include <cstddef>
 #include <cstring>
 
-namespace jetrace::replay {
+namespace jetrace {
 
 namespace {
 
@@ -78,4 +78,4 @@ std::uint32_t crc32c_tables(std::span<const std::uint8_t> bytes, std::uint32_t c
     return ~c;
 }
 
-}  // namespace jetrace::replay
+}  // namespace jetrace

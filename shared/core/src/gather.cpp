@@ -1,6 +1,6 @@
 // Gathering a car's candidates from the grid, and the policy that decides
-// how far they reach (jetrace/resolver.hpp).
-#include "jetrace/resolver.hpp"
+// how far they reach (jetrace/core/resolver.hpp).
+#include "jetrace/core/resolver.hpp"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "jetrace/geometry.hpp"
+#include "jetrace/core/geometry.hpp"
 
 #include <algorithm>
 #include <bit>

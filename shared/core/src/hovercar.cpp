@@ -1,4 +1,4 @@
-#include "jetrace/hovercar.hpp"
+#include "jetrace/core/hovercar.hpp"
 
 #include <algorithm>
 #include <cmath>

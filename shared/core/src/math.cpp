@@ -1,4 +1,4 @@
-#include "jetrace/math.hpp"
+#include "jetrace/core/math.hpp"
 
 #include <bit>
 #include <cmath>

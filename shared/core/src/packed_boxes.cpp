@@ -1,4 +1,4 @@
-#include "jetrace/packed_boxes.hpp"
+#include "jetrace/core/packed_boxes.hpp"
 
 #include <algorithm>
 #include <limits>

@@ -1,4 +1,4 @@
-#include "jetrace/race.hpp"
+#include "jetrace/core/race.hpp"
 
 #include <algorithm>
 #include <cmath>

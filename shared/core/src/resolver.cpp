@@ -1,7 +1,7 @@
-#include "jetrace/resolver.hpp"
+#include "jetrace/core/resolver.hpp"
 
-#include "jetrace/hovercar.hpp"
-#include "jetrace/sweep.hpp"
+#include "jetrace/core/hovercar.hpp"
+#include "jetrace/core/sweep.hpp"
 
 #include <algorithm>
 #include <cmath>

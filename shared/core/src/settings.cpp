@@ -1,6 +1,6 @@
-#include "jetrace/settings.hpp"
+#include "jetrace/core/settings.hpp"
 
-#include "jetrace/math.hpp"
+#include "jetrace/core/math.hpp"
 
 #include <cmath>
 #include <sstream>

@@ -1,4 +1,4 @@
-#include "jetrace/state_bytes.hpp"
+#include "jetrace/core/state_bytes.hpp"
 
 #include <bit>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "jetrace/sweep.hpp"
+#include "jetrace/core/sweep.hpp"
 
 #include <cmath>
 

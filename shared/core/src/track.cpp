@@ -1,4 +1,4 @@
-#include "jetrace/track.hpp"
+#include "jetrace/core/track.hpp"
 
 #include <algorithm>
 #include <cmath>

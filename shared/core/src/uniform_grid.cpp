@@ -1,4 +1,4 @@
-#include "jetrace/uniform_grid.hpp"
+#include "jetrace/core/uniform_grid.hpp"
 
 #include <algorithm>
 #include <bit>

@@ -1,7 +1,7 @@
-#include "jetrace/world.hpp"
+#include "jetrace/core/world.hpp"
 
-#include "jetrace/car_fields.hpp"
-#include "jetrace/race.hpp"
+#include "jetrace/core/car_fields.hpp"
+#include "jetrace/core/race.hpp"
 
 #include <algorithm>
 #include <cassert>
@@ -17,7 +17,6 @@ Scene Scene::make(Track track, const PhysicsSettings& physics, double cell_size_
     s.grid = UniformGrid(track.triangles, track.bounds, physics.car_radius_m, cell_size_m);
     s.track = std::move(track);
     s.physics = physics;
-    s.road = RoadProfile::build(s.track, s.grid);
     return s;
 }
 

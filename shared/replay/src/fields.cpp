@@ -1,7 +1,7 @@
 #include "jetrace/replay/fields.hpp"
 
-#include "jetrace/car_fields.hpp"
-#include "jetrace/state_bytes.hpp"
+#include "jetrace/core/car_fields.hpp"
+#include "jetrace/core/state_bytes.hpp"
 
 #include <bit>
 #include <cstdio>

@@ -1,8 +1,8 @@
 #include "jetrace/replay/format.hpp"
 
-#include "jetrace/race.hpp"
-#include "jetrace/replay/crc32c.hpp"
-#include "jetrace/state_bytes.hpp"
+#include "jetrace/core/crc32c.hpp"
+#include "jetrace/core/race.hpp"
+#include "jetrace/core/state_bytes.hpp"
 
 #include <algorithm>
 #include <bit>

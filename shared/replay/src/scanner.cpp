@@ -1,6 +1,6 @@
 #include "jetrace/replay/scanner.hpp"
 
-#include "jetrace/replay/crc32c.hpp"
+#include "jetrace/core/crc32c.hpp"
 
 #include <algorithm>
 #include <cstring>

@@ -1,7 +1,5 @@
 #include "jetrace/replay/scene_for.hpp"
 
-#include "jetrace/builtin_tracks.hpp"
-
 #include <memory>
 #include <optional>
 
@@ -27,12 +25,6 @@ SceneFor scene_for(TrackLoader load, std::string track_spec) {
         scene->emplace(Scene::make(std::move(track), physics));
         return &**scene;
     };
-}
-
-bool load_builtin(const std::string& spec, Track& out, std::string& error) {
-    if (make_builtin_track(spec, out)) return true;
-    error = "unknown built-in track '" + spec + "'";
-    return false;
 }
 
 }  // namespace jetrace::replay

@@ -1,6 +1,6 @@
 #include "jetrace/replay/verify.hpp"
 
-#include "jetrace/state_bytes.hpp"
+#include "jetrace/core/state_bytes.hpp"
 
 #include <algorithm>
 

@@ -1,6 +1,6 @@
 #include "jetrace/replay/writer.hpp"
 
-#include "jetrace/state_bytes.hpp"
+#include "jetrace/core/state_bytes.hpp"
 
 #include <algorithm>
 #include <cerrno>

@@ -1,4 +1,4 @@
-#include "jetrace/builtin_tracks.hpp"
+#include "jetrace/tracks/builtin_tracks.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -225,6 +225,12 @@ bool make_builtin_track(const std::string& name, Track& out) {
         out = make_oval(ring_params());
         return true;
     }
+    return false;
+}
+
+bool load_builtin(const std::string& spec, Track& out, std::string& error) {
+    if (make_builtin_track(spec, out)) return true;
+    error = "unknown built-in track '" + spec + "'";
     return false;
 }
 

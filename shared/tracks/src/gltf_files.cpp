@@ -1,6 +1,6 @@
 #include "gltf_files.hpp"
 
-#include "jetrace/mesh_import.hpp"
+#include "jetrace/tracks/mesh_import.hpp"
 
 #include <fstream>
 #include <sys/stat.h>

@@ -1,6 +1,6 @@
 // tinygltf's file-system and image callbacks for jetrace: regular files of
 // at most kMaxTrackFileBytes only, no path expansion, no writing, images
-// never decoded. Internal to jetrace::trackio (gltf_import.cpp).
+// never decoded. Internal to jetrace::tracks (gltf_import.cpp).
 #pragma once
 
 #include <tiny_gltf.h>

@@ -4,8 +4,8 @@
 // here before a byte is read: accessor, buffer view and buffer indices,
 // offsets, strides and counts against the buffer's real size, component
 // types, index values, node transforms. Images are never decoded.
-#include "jetrace/mesh_import.hpp"
-#include "jetrace/track.hpp"
+#include "jetrace/core/track.hpp"
+#include "jetrace/tracks/mesh_import.hpp"
 
 #include "gltf_files.hpp"
 

@@ -9,9 +9,9 @@
 // then the sections, each padded with zero bytes to a multiple of 8: name,
 // vertices (3 f64 each), triangles (3 u32 vertex indices each), gates
 // (23 f64 each), spawns (9 f64 each).
-#include "jetrace/jtrack.hpp"
+#include "jetrace/tracks/jtrack.hpp"
 
-#include "jetrace/replay/crc32c.hpp"
+#include "jetrace/core/crc32c.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -149,10 +149,10 @@ std::vector<std::uint8_t> encode_jtrack(const Track& track) {
         for (const Vec3* v : {&p.position, &p.forward, &p.up}) o.vec3(*v);
     }
     std::vector<std::uint8_t>& b = o.bytes();
-    const std::uint32_t payload = replay::crc32c(std::span<const std::uint8_t>(b).subspan(kJtrackHeaderBytes));
+    const std::uint32_t payload = crc32c(std::span<const std::uint8_t>(b).subspan(kJtrackHeaderBytes));
     o.seek(56);
     o.u32(payload);
-    o.u32(replay::crc32c(std::span<const std::uint8_t>(b.data(), 60)));
+    o.u32(crc32c(std::span<const std::uint8_t>(b.data(), 60)));
     return std::move(b);
 }
 

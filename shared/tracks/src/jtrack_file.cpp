@@ -2,7 +2,7 @@
 // cache is then shared by every process that loads the same file; nothing is
 // copied before the checks), written through a temporary file renamed into
 // place (a failed write leaves no partial file under the name).
-#include "jetrace/jtrack.hpp"
+#include "jetrace/tracks/jtrack.hpp"
 
 #include <cerrno>
 #include <cstdio>

@@ -4,9 +4,9 @@
 // real one, the payload checksum, padding, then every value: vertices finite
 // and in range, indices below the vertex count, the name, and the rules of
 // the track (validate_rules: gates, spawns, kill height).
-#include "jetrace/jtrack.hpp"
+#include "jetrace/tracks/jtrack.hpp"
 
-#include "jetrace/replay/crc32c.hpp"
+#include "jetrace/core/crc32c.hpp"
 
 #include <bit>
 #include <cmath>
@@ -92,7 +92,7 @@ std::string check_header(std::span<const std::uint8_t> b, const Header& h) {
                std::to_string(kJtrackVersion) + ")";
     }
     if (h.header_bytes != kJtrackHeaderBytes) return "header size " + std::to_string(h.header_bytes) + " is not 64";
-    if (const std::uint32_t c = replay::crc32c(b.first(60)); c != h.header_crc) {
+    if (const std::uint32_t c = crc32c(b.first(60)); c != h.header_crc) {
         return "header checksum mismatch (stored " + hex(h.header_crc) + ", computed " + hex(c) + ")";
     }
     if (h.flags != 0) return "unknown flags " + hex(h.flags) + " (must be 0)";
@@ -113,7 +113,7 @@ std::string check_header(std::span<const std::uint8_t> b, const Header& h) {
         return "header says " + std::to_string(h.file_bytes) + " bytes but its counts make " + std::to_string(want);
     }
     if (b.size() != want) return "file is " + n + " bytes but its header says " + std::to_string(want) + " (truncated or padded)";
-    if (const std::uint32_t c = replay::crc32c(b.subspan(kJtrackHeaderBytes)); c != h.payload_crc) {
+    if (const std::uint32_t c = crc32c(b.subspan(kJtrackHeaderBytes)); c != h.payload_crc) {
         return "payload checksum mismatch (stored " + hex(h.payload_crc) + ", computed " + hex(c) + ")";
     }
     return {};

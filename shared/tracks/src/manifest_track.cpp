@@ -2,8 +2,8 @@
 // turned to Y and scaled, zero-area triangles dropped (counted and reported),
 // then gates and spawns placed (route_gates.cpp). Triangles keep file order:
 // mesh by mesh, part by part, triangle by triangle.
-#include "jetrace/track_io.hpp"
-#include "jetrace/track_manifest.hpp"
+#include "jetrace/tracks/track_io.hpp"
+#include "jetrace/tracks/track_manifest.hpp"
 
 #include "route_gates.hpp"
 

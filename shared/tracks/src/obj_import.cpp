@@ -11,7 +11,7 @@
 //  * checks every face index before tinyobjloader sees it (tinyobjloader
 //    only warns about out-of-range indices and keeps them);
 //  * remembers line numbers of groups for error messages.
-#include "jetrace/track_io.hpp"
+#include "jetrace/tracks/track_io.hpp"
 #include "track_raycast.hpp"
 
 #include <tiny_obj_loader.h>

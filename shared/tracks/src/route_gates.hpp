@@ -1,8 +1,8 @@
 // Gates and spawns placed on a mesh from a manifest's route or gates, and the
-// checks on them (docs/TRACKS.md, "Checks"). Internal to jetrace::trackio.
+// checks on them (docs/TRACKS.md, "Checks"). Internal to jetrace::tracks.
 #pragma once
 
-#include "jetrace/track_manifest.hpp"
+#include "jetrace/tracks/track_manifest.hpp"
 
 #include <string>
 #include <utility>

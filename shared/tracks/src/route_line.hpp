@@ -2,7 +2,7 @@
 // tangents by distance along it, and the nearest distance to a point.
 #pragma once
 
-#include "jetrace/track_manifest.hpp"
+#include "jetrace/tracks/track_manifest.hpp"
 
 #include <string>
 #include <vector>

@@ -1,7 +1,7 @@
-#include "jetrace/track_io.hpp"
+#include "jetrace/tracks/track_io.hpp"
 
-#include "jetrace/builtin_tracks.hpp"
-#include "jetrace/jtrack.hpp"
+#include "jetrace/tracks/builtin_tracks.hpp"
+#include "jetrace/tracks/jtrack.hpp"
 
 #include <filesystem>
 #include <fstream>

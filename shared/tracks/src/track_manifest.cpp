@@ -1,7 +1,7 @@
 // The track manifest's JSON (docs/TRACKS.md, "Track manifests"), read with
 // nlohmann-json. Every key is checked for its type and range, and an unknown
 // key is an error (a typo must not be ignored quietly).
-#include "jetrace/track_manifest.hpp"
+#include "jetrace/tracks/track_manifest.hpp"
 
 #include <nlohmann/json.hpp>
 

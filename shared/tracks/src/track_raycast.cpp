@@ -1,6 +1,6 @@
 #include "track_raycast.hpp"
 
-#include "jetrace/track.hpp"
+#include "jetrace/core/track.hpp"
 
 namespace jetrace::detail {
 

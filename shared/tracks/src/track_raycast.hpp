@@ -1,8 +1,8 @@
 // Rays against track triangles, shared by the OBJ importer and the track
-// manifest (gates and spawns placed on the mesh). Internal to jetrace::trackio.
+// manifest (gates and spawns placed on the mesh). Internal to jetrace::tracks.
 #pragma once
 
-#include "jetrace/track.hpp"
+#include "jetrace/core/track.hpp"
 
 #include <vector>
 

@@ -2,7 +2,7 @@
 // the setting's validate() uses): NaN and infinity are refused too.
 #pragma once
 
-#include "jetrace/value_range.hpp"
+#include "jetrace/core/value_range.hpp"
 
 #include <CLI/CLI.hpp>
 

@@ -10,8 +10,8 @@
 #pragma once
 
 #include "jetrace/client/client_config.hpp"
+#include "jetrace/core/tick_clock.hpp"
 #include "jetrace/proto/messages.hpp"
-#include "jetrace/tick_clock.hpp"
 
 #include <cstdint>
 

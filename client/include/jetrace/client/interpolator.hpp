@@ -7,7 +7,7 @@
 #pragma once
 
 #include "jetrace/client/snapshot_store.hpp"
-#include "jetrace/world.hpp"
+#include "jetrace/core/world.hpp"
 
 #include <cstdint>
 

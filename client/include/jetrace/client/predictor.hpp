@@ -25,10 +25,10 @@
 #pragma once
 
 #include "jetrace/client/client_config.hpp"
+#include "jetrace/core/tick_ring.hpp"
+#include "jetrace/core/world.hpp"
 #include "jetrace/proto/messages.hpp"
 #include "jetrace/proto/world_codec.hpp"
-#include "jetrace/tick_ring.hpp"
-#include "jetrace/world.hpp"
 
 #include <array>
 #include <cassert>

@@ -27,9 +27,9 @@
 #include "jetrace/client/scene_choice.hpp"
 #include "jetrace/client/snapshot_store.hpp"
 #include "jetrace/client/track_download.hpp"
+#include "jetrace/core/world.hpp"
 #include "jetrace/net/transport.hpp"
 #include "jetrace/proto/messages.hpp"
-#include "jetrace/world.hpp"
 
 #include <cstdint>
 #include <functional>

@@ -3,8 +3,8 @@
 // (docs/PROTOCOL.md, "Checking the Welcome").
 #pragma once
 
+#include "jetrace/core/world.hpp"
 #include "jetrace/proto/messages.hpp"
-#include "jetrace/world.hpp"
 
 #include <cstdint>
 #include <memory>

@@ -7,8 +7,8 @@
 // the download with a reason, never a crash.
 #pragma once
 
+#include "jetrace/core/track.hpp"
 #include "jetrace/proto/messages.hpp"
-#include "jetrace/track.hpp"
 
 #include <cstdint>
 #include <string>

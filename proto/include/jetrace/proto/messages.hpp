@@ -5,7 +5,7 @@
 // docs/PROTOCOL.md describes the wire format, channels and state machine.
 #pragma once
 
-#include "jetrace/hovercar.hpp"
+#include "jetrace/core/hovercar.hpp"
 #include "jetrace/proto/close_code.hpp"
 
 #include <cstdint>

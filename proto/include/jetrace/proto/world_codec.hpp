@@ -4,8 +4,8 @@
 // by the core (2^-10 m, 2^-10 m/s, 2^-14), so the integers sent are exact.
 #pragma once
 
-#include "jetrace/hovercar.hpp"
-#include "jetrace/world.hpp"
+#include "jetrace/core/hovercar.hpp"
+#include "jetrace/core/world.hpp"
 
 #include <cstdint>
 #include <span>

@@ -5,9 +5,9 @@
 // (relayed in snapshots).
 #pragma once
 
-#include "jetrace/hovercar.hpp"
+#include "jetrace/core/hovercar.hpp"
+#include "jetrace/core/tick_ring.hpp"
 #include "jetrace/proto/messages.hpp"
-#include "jetrace/tick_ring.hpp"
 
 #include <cstdint>
 #include <vector>

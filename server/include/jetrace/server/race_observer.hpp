@@ -4,9 +4,9 @@
 // must not call back into the server.
 #pragma once
 
-#include "jetrace/hovercar.hpp"
+#include "jetrace/core/hovercar.hpp"
+#include "jetrace/core/world.hpp"
 #include "jetrace/replay/format.hpp"
-#include "jetrace/world.hpp"
 
 #include <cstdint>
 #include <span>

@@ -8,6 +8,9 @@
 #pragma once
 
 #include "jetrace/auth/token_verifier.hpp"
+#include "jetrace/core/tick_clock.hpp"
+#include "jetrace/core/value_range.hpp"
+#include "jetrace/core/world.hpp"
 #include "jetrace/net/transport.hpp"
 #include "jetrace/proto/messages.hpp"
 #include "jetrace/proto/world_codec.hpp"
@@ -17,9 +20,6 @@
 #include "jetrace/server/race_observer.hpp"
 #include "jetrace/server/session_table.hpp"
 #include "jetrace/server/snapshot_history.hpp"
-#include "jetrace/tick_clock.hpp"
-#include "jetrace/value_range.hpp"
-#include "jetrace/world.hpp"
 
 #include <cstdint>
 #include <functional>

@@ -3,9 +3,9 @@
 // the clients that acknowledged the same baseline.
 #pragma once
 
+#include "jetrace/core/tick_ring.hpp"
 #include "jetrace/proto/messages.hpp"
 #include "jetrace/proto/world_codec.hpp"
-#include "jetrace/tick_ring.hpp"
 
 #include <cstdint>
 #include <map>

@@ -2,8 +2,8 @@
 // determinism test.
 #pragma once
 
-#include "jetrace/driver_ai.hpp"
-#include "jetrace/world.hpp"
+#include "jetrace/ai/driver_ai.hpp"
+#include "jetrace/core/world.hpp"
 
 #include <cstdint>
 #include <span>
@@ -30,7 +30,7 @@ public:
 
 /// Steps `ticks` ticks with every car driven by the AI. Stops early once
 /// every car has finished if `stop_when_finished`. Returns the ticks stepped.
-std::uint32_t run_ai(const Scene& scene, WorldState& state, const std::vector<DriverSkill>& skills, std::uint32_t ticks,
+std::uint32_t run_ai(const Course& course, WorldState& state, const std::vector<DriverSkill>& skills, std::uint32_t ticks,
                      bool stop_when_finished, StepScratch& scratch, StepObserver* observer = nullptr);
 
 }  // namespace jetrace

@@ -3,8 +3,8 @@
 // to see a crest ahead without searching the grid on every tick.
 #pragma once
 
-#include "jetrace/track.hpp"
-#include "jetrace/uniform_grid.hpp"
+#include "jetrace/core/track.hpp"
+#include "jetrace/core/uniform_grid.hpp"
 
 #include <cstddef>
 #include <cstdint>

@@ -1,8 +1,8 @@
 // A car's candidate triangles: what the resolver scans, pass after pass.
 #pragma once
 
-#include "jetrace/geometry.hpp"
-#include "jetrace/packed_boxes.hpp"
+#include "jetrace/core/geometry.hpp"
+#include "jetrace/core/packed_boxes.hpp"
 
 #include <algorithm>
 #include <array>

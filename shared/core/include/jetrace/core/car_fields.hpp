@@ -4,7 +4,7 @@
 // be added here: the static_assert below trips on a size change.
 #pragma once
 
-#include "jetrace/hovercar.hpp"
+#include "jetrace/core/hovercar.hpp"
 
 #include <array>
 #include <bit>

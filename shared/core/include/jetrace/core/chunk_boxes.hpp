@@ -2,7 +2,7 @@
 // drops most pairs a run at a time (UniformGrid::collect_overlapping).
 #pragma once
 
-#include "jetrace/geometry.hpp"
+#include "jetrace/core/geometry.hpp"
 
 #include <array>
 #include <cstddef>

@@ -1,7 +1,7 @@
 // The contact normals gathered around a car.
 #pragma once
 
-#include "jetrace/math.hpp"
+#include "jetrace/core/math.hpp"
 
 namespace jetrace {
 

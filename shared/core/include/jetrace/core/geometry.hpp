@@ -1,7 +1,7 @@
 // Triangles, boxes and the exact closest point on a triangle.
 #pragma once
 
-#include "jetrace/math.hpp"
+#include "jetrace/core/math.hpp"
 
 namespace jetrace {
 

@@ -3,10 +3,10 @@
 // integration, alignment).
 #pragma once
 
-#include "jetrace/contacts.hpp"
-#include "jetrace/math.hpp"
-#include "jetrace/settings.hpp"
-#include "jetrace/track.hpp"
+#include "jetrace/core/contacts.hpp"
+#include "jetrace/core/math.hpp"
+#include "jetrace/core/settings.hpp"
+#include "jetrace/core/track.hpp"
 
 #include <cstdint>
 

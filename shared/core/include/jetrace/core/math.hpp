@@ -1,7 +1,7 @@
 // Deterministic math for the physics core.
 //
 // Vectors and quaternions are Eigen types. The core is compiled with
-// EIGEN_DONT_VECTORIZE and -ffp-contract=off (see shared/CMakeLists.txt), so
+// EIGEN_DONT_VECTORIZE and -ffp-contract=off (see shared/core/CMakeLists.txt), so
 // every reduction (dot, norm) is the same unrolled scalar sequence under gcc
 // and clang at any optimisation level. Only +, -, *, / and sqrt are used on
 // the step path: they are correctly rounded by IEEE 754. Trigonometry comes

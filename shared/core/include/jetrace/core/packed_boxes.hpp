@@ -16,7 +16,7 @@
 // changes what they cost, never what they find.
 #pragma once
 
-#include "jetrace/geometry.hpp"
+#include "jetrace/core/geometry.hpp"
 
 #include <algorithm>
 #include <array>

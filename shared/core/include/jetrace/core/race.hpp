@@ -1,8 +1,8 @@
 // Race rules: gates in order, laps, finishing, respawn; and standings.
 #pragma once
 
-#include "jetrace/hovercar.hpp"
-#include "jetrace/track.hpp"
+#include "jetrace/core/hovercar.hpp"
+#include "jetrace/core/track.hpp"
 
 #include <cstdint>
 #include <vector>

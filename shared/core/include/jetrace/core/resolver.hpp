@@ -1,11 +1,11 @@
 // Sphere against track: candidate gathering and the seed's push-out.
 #pragma once
 
-#include "jetrace/candidates.hpp"
-#include "jetrace/contacts.hpp"
-#include "jetrace/settings.hpp"
-#include "jetrace/track.hpp"
-#include "jetrace/uniform_grid.hpp"
+#include "jetrace/core/candidates.hpp"
+#include "jetrace/core/contacts.hpp"
+#include "jetrace/core/settings.hpp"
+#include "jetrace/core/track.hpp"
+#include "jetrace/core/uniform_grid.hpp"
 
 #include <algorithm>
 #include <cstdint>

@@ -113,7 +113,7 @@ std::string validate(const PhysicsSettings& s);
 
 /// Revision of what step() computes from the same settings and state: it
 /// changes with any change that alters a result (the golden hash in
-/// tests/test_determinism.cpp moves with it), and only then. It is the
+/// tests/core/test_determinism.cpp moves with it), and only then. It is the
 /// first value physics_fingerprint() hashes, so peers running different
 /// cores refuse each other instead of diverging: the Welcome carries the
 /// fingerprint as physics_hash (docs/PROTOCOL.md, "Hashes"), and a replay's

@@ -3,7 +3,7 @@
 // Reading checks everything: the bytes may come from a file.
 #pragma once
 
-#include "jetrace/world.hpp"
+#include "jetrace/core/world.hpp"
 
 #include <cstdint>
 #include <span>

@@ -9,8 +9,8 @@
 // rest of the motion slide along it (docs/ACCURACY.md).
 #pragma once
 
-#include "jetrace/geometry.hpp"
-#include "jetrace/math.hpp"
+#include "jetrace/core/geometry.hpp"
+#include "jetrace/core/math.hpp"
 
 namespace jetrace {
 

@@ -1,7 +1,7 @@
 // A static race track: a triangle mesh, ordered checkpoints, spawn slots.
 #pragma once
 
-#include "jetrace/geometry.hpp"
+#include "jetrace/core/geometry.hpp"
 
 #include <cstdint>
 #include <string>

@@ -73,8 +73,8 @@
 //     4e10 cells at 10 m).
 #pragma once
 
-#include "jetrace/chunk_boxes.hpp"
-#include "jetrace/geometry.hpp"
+#include "jetrace/core/chunk_boxes.hpp"
+#include "jetrace/core/geometry.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -335,4 +335,4 @@ private:
 
 // The definitions of the walks over a box's cells (for_each_cell and
 // collect_overlapping's parts).
-#include "jetrace/uniform_grid_walks.inl"
+#include "jetrace/core/uniform_grid_walks.inl"

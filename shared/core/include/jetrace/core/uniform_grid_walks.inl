@@ -1,7 +1,7 @@
 // UniformGrid's walks over the cells of a box: for_each_cell, and the parts
 // of collect_overlapping, where the chunk boxes (ChunkBoxes) drop most
 // pairs 16 at a time and spare the tests along the axes where a chunk is
-// inside the query. Included only by jetrace/uniform_grid.hpp, at its end.
+// inside the query. Included only by jetrace/core/uniform_grid.hpp, at its end.
 #include <algorithm>
 #include <cstdint>
 #include <vector>

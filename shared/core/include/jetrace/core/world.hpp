@@ -3,12 +3,11 @@
 // state; restoring is assigning it. That is also what reconciliation does.
 #pragma once
 
-#include "jetrace/hovercar.hpp"
-#include "jetrace/resolver.hpp"
-#include "jetrace/road_profile.hpp"
-#include "jetrace/settings.hpp"
-#include "jetrace/track.hpp"
-#include "jetrace/uniform_grid.hpp"
+#include "jetrace/core/hovercar.hpp"
+#include "jetrace/core/resolver.hpp"
+#include "jetrace/core/settings.hpp"
+#include "jetrace/core/track.hpp"
+#include "jetrace/core/uniform_grid.hpp"
 
 #include <cstdint>
 #include <span>
@@ -23,13 +22,11 @@ struct Scene {
     UniformGrid grid;
     PhysicsSettings physics;
     Broadphase broadphase = Broadphase::grid;
-    /// Road heights along the route, for the driving AI.
-    RoadProfile road;
 
     /// What the resolver reads (references into this scene).
     TrackQuery query() const { return {track, grid, broadphase, physics}; }
 
-    /// Builds the grid and the road profile. `physics` must be valid (see validate()).
+    /// Builds the grid. `physics` must be valid (see validate()).
     static Scene make(Track track, const PhysicsSettings& physics, double cell_size_m = 0.0);
 };
 

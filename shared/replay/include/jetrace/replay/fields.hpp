@@ -2,7 +2,7 @@
 // fields, then each car's in visit_car_fields() order), with both values.
 #pragma once
 
-#include "jetrace/world.hpp"
+#include "jetrace/core/world.hpp"
 
 #include <cstddef>
 #include <string>

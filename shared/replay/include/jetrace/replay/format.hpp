@@ -9,7 +9,7 @@
 // doubles as their raw IEEE-754 bits.
 #pragma once
 
-#include "jetrace/world.hpp"
+#include "jetrace/core/world.hpp"
 
 #include <array>
 #include <cstdint>

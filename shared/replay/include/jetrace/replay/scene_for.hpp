@@ -16,7 +16,4 @@ using TrackLoader = std::function<bool(const std::string& spec, Track& out, std:
 /// name) with `load` the first time it is asked, and keeps it.
 SceneFor scene_for(TrackLoader load, std::string track_spec = {});
 
-/// A TrackLoader of the built-in tracks only (jetrace/builtin_tracks.hpp).
-bool load_builtin(const std::string& spec, Track& out, std::string& error);
-
 }  // namespace jetrace::replay

@@ -6,7 +6,7 @@
 // stops the recording and is kept in error().
 #pragma once
 
-#include "jetrace/offline_race.hpp"
+#include "jetrace/ai/offline_race.hpp"
 #include "jetrace/replay/format.hpp"
 #include "jetrace/replay/signature.hpp"
 

@@ -1,7 +1,7 @@
 // Built-in tracks, generated from a few parameters.
 #pragma once
 
-#include "jetrace/track.hpp"
+#include "jetrace/core/track.hpp"
 
 #include <string>
 #include <vector>
@@ -52,5 +52,9 @@ Track make_oval(const OvalParams& p);
 std::vector<std::string> builtin_track_names();
 /// True and fills `out` if `name` is a built-in track.
 bool make_builtin_track(const std::string& name, Track& out);
+
+/// make_builtin_track() with a reason when `spec` names no built-in track
+/// (a replay::TrackLoader of the built-in tracks only).
+bool load_builtin(const std::string& spec, Track& out, std::string& error);
 
 }  // namespace jetrace

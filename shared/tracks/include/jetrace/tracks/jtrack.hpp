@@ -12,7 +12,7 @@
 // message naming it, never a crash.
 #pragma once
 
-#include "jetrace/track.hpp"
+#include "jetrace/core/track.hpp"
 
 #include <cstddef>
 #include <cstdint>

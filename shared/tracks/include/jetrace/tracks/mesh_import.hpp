@@ -4,7 +4,7 @@
 // message, never an assert or a crash. docs/TRACKS.md, "glTF".
 #pragma once
 
-#include "jetrace/math.hpp"
+#include "jetrace/core/math.hpp"
 
 #include <cstddef>
 #include <string>

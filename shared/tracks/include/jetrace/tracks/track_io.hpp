@@ -3,9 +3,9 @@
 // come back as an error message, never an assert or a crash.
 #pragma once
 
-#include "jetrace/mesh_import.hpp"
-#include "jetrace/track.hpp"
-#include "jetrace/track_manifest.hpp"
+#include "jetrace/core/track.hpp"
+#include "jetrace/tracks/mesh_import.hpp"
+#include "jetrace/tracks/track_manifest.hpp"
 
 #include <string>
 #include <string_view>

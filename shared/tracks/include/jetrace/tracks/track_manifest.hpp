@@ -5,8 +5,8 @@
 // height. Every key, its unit and default: docs/TRACKS.md, "Track manifests".
 #pragma once
 
-#include "jetrace/mesh_import.hpp"
-#include "jetrace/track.hpp"
+#include "jetrace/core/track.hpp"
+#include "jetrace/tracks/mesh_import.hpp"
 
 #include <optional>
 #include <string>
