@@ -1,6 +1,6 @@
-// The two real levels beside the repository (../shared/tracks: glTF exports of
-// other games' maps) load through their manifests in docs/tracks/. These
-// fail, not skip, when the meshes are missing: the manifests point at them.
+// The two real levels in the repository (docs/tracks/godot-*: glTF exports of
+// other games' maps, with their licences) load through their manifests in
+// docs/tracks/.
 #include "jetrace/tracks/track_io.hpp"
 
 #include <gtest/gtest.h>
