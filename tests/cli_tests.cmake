@@ -11,8 +11,12 @@ jetrace_cli_test(NAME cli_bench_rejects_no_subcommand COMMAND jetrace-bench EXPE
 jetrace_cli_test(NAME cli_bench_rejects_zero_frames COMMAND jetrace-bench seed --frames 0 EXPECT_FAIL LABELS quick)
 jetrace_cli_test(NAME cli_sim_prints_state_hash COMMAND jetrace-sim --track ring --cars 2 --seconds 2 --seed 3 LABELS quick
   REGEX "state_hash=[0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f]\n")
-jetrace_cli_test(NAME cli_bench_seed_prints_json COMMAND jetrace-bench seed --frames 1000 --repeats 1 LABELS quick
-  REGEX "\"grid_on_ns_per_frame\":[0-9.e+-]+.*\"grid_off_ns_per_frame\"|\"grid_off_ns_per_frame\":[0-9.e+-]+.*\"grid_on_ns_per_frame\"")
+# The seed's benchmark, and an exact check of the grid: a parked car and one
+# pushed out every frame, grid on and off, all end in the same state (the
+# command exits 1 if not: REGEX ignores the exit code, so it is printed).
+jetrace_cli_test(NAME cli_bench_seed_prints_json
+  COMMAND sh -c "\"$0\" seed --frames 1000 --repeats 1; echo exit=$?" $<TARGET_FILE:jetrace-bench> LABELS quick
+  REGEX "\"parked_grid_off_ns_per_frame\":[0-9.e+-]+.*\"parked_grid_on_ns_per_frame\":[0-9.e+-]+.*\"pushout_grid_off_ns_per_frame\":[0-9.e+-]+.*\"pushout_grid_on_ns_per_frame\":[0-9.e+-]+.*\"same_final_state\":true.*exit=0")
 
 # The track benchmarks on small meshes: their JSON and the same identity
 # through OBJ and .jtrack (a few seconds).
@@ -20,6 +24,23 @@ jetrace_cli_test(NAME cli_bench_track_load_prints_json COMMAND jetrace-bench tra
   REGEX "\"identity_equal\":true" LABELS quick TIMEOUT 60)
 jetrace_cli_test(NAME cli_bench_density_prints_json COMMAND jetrace-bench density --squares 16 32 --seconds 1 --repeats 1
   REGEX "\"ns_per_car_step\":[0-9.e+-]+,.*\"triangles\":512.*\"triangles\":2048" LABELS quick TIMEOUT 60)
+# jetrace-bench server: a RaceServer and AI bots over the in-memory network.
+# Its JSON, and the same bytes and state hash in every run: --repeats 2
+# checks two runs in one process (exit 1 if they differ), a second process
+# must print the same again.
+jetrace_cli_test(NAME cli_bench_server_prints_json_and_repeats
+  COMMAND sh -c "args='server --track ring --bots 4 --seconds 2' && a=\$(\"$0\" \$args --repeats 2) && b=\$(\"$0\" \$args) && echo \"\$a\" && f() { echo \"\$1\" | grep -o '\"bytes_[a-z_]*\":[0-9.e+-]*\\|\"state_hash\":\"[0-9a-f]*\"'; } && test \"\$(f \"\$a\")\" = \"\$(f \"\$b\")\" && echo same-bytes-and-hash; echo exit=\$?" $<TARGET_FILE:jetrace-bench>
+  REGEX "\"benchmark\":\"server\",\"bots\":4,\"bytes_down\":[1-9][0-9]*,\"bytes_down_per_client_per_s\":[0-9.e+]+,\"bytes_up\":[1-9][0-9]*,\"bytes_up_per_client_per_s\":[0-9.e+]+,.*\"state_hash\":\"[0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f]\".*\"tick_us_median\":[0-9.e+-]+,.*\"tick_us_p99\":[0-9.e+-]+,.*\"ticks\":240,\"track\":\"ring\".*same-bytes-and-hash\nexit=0"
+  LABELS quick TIMEOUT 120)
+jetrace_cli_test(NAME cli_bench_server_rejects_zero_bots COMMAND jetrace-bench server --bots 0 EXPECT_FAIL LABELS quick)
+jetrace_cli_test(NAME cli_bench_server_rejects_65_bots COMMAND jetrace-bench server --bots 65 EXPECT_FAIL LABELS quick)
+jetrace_cli_test(NAME cli_bench_server_rejects_unknown_track COMMAND jetrace-bench server --track nosuch EXPECT_FAIL LABELS quick)
+jetrace_cli_test(NAME cli_bench_server_rejects_zero_repeats COMMAND jetrace-bench server --repeats 0 EXPECT_FAIL LABELS quick)
+jetrace_cli_test(NAME cli_bench_server_rejects_negative_latency COMMAND jetrace-bench server --latency-ms -1
+  EXPECT_FAIL LABELS quick)
+jetrace_cli_test(NAME cli_bench_server_rejects_nan_seconds
+  COMMAND sh -c "\"$0\" server --seconds nan 2>&1; echo exit=$?" $<TARGET_FILE:jetrace-bench>
+  REGEX "--seconds: Value nan is not a finite number.*exit=[1-9]" LABELS quick)
 # jetrace-bench landscape writes the landscape as an OBJ track that races
 # (tools/view_bench.sh's input); bad sizes and an unwritable file fail.
 jetrace_cli_test(NAME cli_bench_landscape_writes_obj
@@ -207,14 +228,16 @@ if(JETRACE_HAVE_BULLET)
     LABELS quick TIMEOUT 120 REGEX
     "\"bullet_ns_per_step\":${_num}.*\"jetrace_ns_per_step\":${_num}.*\"scenario\":\"idle\".*\"bullet_ns_per_step\":${_num}.*\"jetrace_ns_per_step\":${_num}.*\"scenario\":\"driving\".*\"bullet_ccd_limit_mps\":${_num}.*\"bullet_limit_mps\":${_num}.*\"bullet_ns_per_step\":${_num}.*\"jetrace_limit_mps\":${_num}.*\"jetrace_ns_per_step\":${_num}.*\"scenario\":\"thin_wall\"")
   jetrace_cli_test(NAME cli_bench_bullet_rejects_zero_frames COMMAND jetrace-bench bullet --frames 0 EXPECT_FAIL LABELS quick)
-  jetrace_cli_test(NAME cli_bench_bullet_rejects_jetrace_only_thin_wall
-    COMMAND jetrace-bench bullet --scenario thin_wall --jetrace-only EXPECT_FAIL LABELS quick)
   jetrace_cli_test(NAME cli_bench_bullet_rejects_unknown_scenario COMMAND jetrace-bench bullet --scenario nosuch
     EXPECT_FAIL LABELS quick)
   # One scenario, jetrace only: what the callgrind figure of docs/ACCURACY.md runs.
   jetrace_cli_test(NAME bench_bullet_jetrace_only_driving
     COMMAND jetrace-bench bullet --scenario driving --jetrace-only --frames 50 --repeats 1
     REGEX "\"jetrace_ns_per_step\":${_num}.*\"scenario\":\"driving\"" FAIL_REGEX "bullet_" LABELS quick TIMEOUT 60)
+  # The thin wall, jetrace only: the step's cost without Bullet or the speed-limit search (tools/bench_compare.sh).
+  jetrace_cli_test(NAME bench_bullet_jetrace_only_thin_wall
+    COMMAND jetrace-bench bullet --scenario thin_wall --jetrace-only --quick --repeats 1
+    REGEX "\"jetrace_ns_per_step\":${_num}.*\"scenario\":\"thin_wall\"" FAIL_REGEX "bullet_|limit_mps" LABELS quick TIMEOUT 60)
 endif()
 
 # jetrace-server's hosting options (label ops too).

@@ -284,12 +284,24 @@ void thin_wall_scenario(const BulletOptions& o, const PhysicsSettings& ps) {
     for (int r = 0; r < o.repeats; ++r) {
         ours.push_back(jetrace_wall_ns(def, timed_speed, a));
         ours_discrete.push_back(jetrace_wall_ns(discrete, timed_speed, a));
+        if (o.jetrace_only) continue;
         for (bool ccd : {true, false}) {
             double ns = 0;
             long steps = 0;
             bullet_passes(b, ps, timed_speed, a, ccd, &ns, &steps);
             (ccd ? theirs_ccd : theirs).push_back(ns / static_cast<double>(steps));
         }
+    }
+    if (o.jetrace_only) {  // the step's cost alone: no Bullet, no search for the speed limits
+        nlohmann::json j;
+        j["scenario"] = "thin_wall";
+        j["tick_rate_hz"] = ps.tick_rate_hz;
+        j["approaches_per_speed"] = a.phases * a.laterals;
+        j["timed_speed_mps"] = timed_speed;
+        j["jetrace_mode"] = lab::mode_name(ps);
+        j["jetrace_discrete_ns_per_step"] = median(ours_discrete);
+        print(j, ours, {});
+        return;
     }
     const lab::TunnelLimit lim = lab::tunnelling_limit(def, 10.0, hi, a, ratio);
     const lab::TunnelLimit lim_discrete = lab::tunnelling_limit(discrete, 10.0, hi, a, ratio);
@@ -327,7 +339,8 @@ void add_bullet_options(CLI::App& app, BulletOptions& o) {
     app.add_option("--scenario", o.scenario, "run only this scenario")
         ->check(CLI::IsMember({"idle", "driving", "thin_wall"}));
     app.add_flag("--jetrace-only", o.jetrace_only,
-                 "idle and driving: time jetrace only (for callgrind; see docs/ACCURACY.md)");
+                 "time jetrace only (for callgrind, see docs/ACCURACY.md, and tools/bench_compare.sh); "
+                 "thin_wall: without the speed-limit search");
 }
 
 int run_bullet(const BulletOptions& o) {
@@ -337,10 +350,6 @@ int run_bullet(const BulletOptions& o) {
     const Track stadium = make_oval(stadium_params());
     const Pose& pole = stadium.spawns.front();
     const auto wanted = [&](const char* name) { return o.scenario.empty() || o.scenario == name; };
-    if (o.jetrace_only && o.scenario == "thin_wall") {
-        std::fprintf(stderr, "jetrace-bench bullet: --jetrace-only applies to idle and driving\n");
-        return 2;
-    }
     if (wanted("idle")) straight_scenario("idle", Straight{pole.position, Vec3::Zero(), pole.forward, Input{}}, o, ps);
     // Straight B runs from x = 1200 to 0 at z = 300, heading -X.
     const double rest = ps.car_radius_m + ps.resolver_epsilon_m;
@@ -354,7 +363,7 @@ int run_bullet(const BulletOptions& o) {
                                               Input::clamped(Input::kMaxThrottle, 0, 0)},
                           drive, ps);
     }
-    if (wanted("thin_wall") && !o.jetrace_only) thin_wall_scenario(o, ps);
+    if (wanted("thin_wall")) thin_wall_scenario(o, ps);
     return 0;
 }
 
