@@ -68,6 +68,10 @@ foreach(level truck_town zdm2)
 endforeach()
 jetrace_cli_test(NAME cli_track_inspect_json COMMAND jetrace-track inspect ${PROJECT_SOURCE_DIR}/docs/tracks/zdm2.track.json --json
   REGEX "\"degenerate_dropped\":1134.*\"gates\":10.*\"raceable\":true.*\"triangles\":57638" LABELS quick TIMEOUT 60)
+# A drivability warning (docs/TRACKS.md, "Drivability warnings"): a gate hanging above the road.
+jetrace_cli_test(NAME cli_track_inspect_warns_gate_above_road
+  COMMAND jetrace-track inspect ${PROJECT_SOURCE_DIR}/tests/tracks/data/gate_above_road.obj --json
+  REGEX "\"drivability\":\\[{\"index\":1,\"kind\":\"gate_above_road\",\"message\":\"gate 1 at \\(20.0, 14.0, 0.0\\): its bottom edge is 10.0 m above the road[^}]*\"subject\":\"gate\"}\\]" LABELS quick TIMEOUT 20)
 jetrace_cli_test(NAME cli_track_render_svg COMMAND sh -c "out=\$(mktemp -d) && \"$0\" render ring --svg \$out/r.svg && grep -q '<svg' \$out/r.svg && grep -q '>11</text>' \$out/r.svg; s=\$?; rm -rf \$out; exit \$s" $<TARGET_FILE:jetrace-track>
   LABELS quick TIMEOUT 60)
 jetrace_cli_test(NAME cli_track_requires_subcommand COMMAND jetrace-track EXPECT_FAIL LABELS quick TIMEOUT 20)

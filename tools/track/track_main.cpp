@@ -4,6 +4,7 @@
 //   jetrace-track build TRACK --out OUT.jtrack  the compiled track (read back and checked: same identity)
 // TRACK: a built-in name, an .obj file, a .gltf/.glb mesh, a track manifest
 // (.json) or a compiled track (.jtrack). docs/TRACKS.md, "jetrace-track".
+#include "jetrace/tracks/drivability.hpp"
 #include "jetrace/tracks/jtrack.hpp"
 #include "jetrace/tracks/track_io.hpp"
 #include "track_svg.hpp"
@@ -24,9 +25,24 @@ json vec(const jetrace::Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
 
 std::string hex_identity(const jetrace::Track& t);
 
+// The drivability warnings (docs/TRACKS.md, "Drivability warnings"): kind,
+// subject ("gate", "spawn", "respawn", "track"), its index, where, message.
+json drivability(const jetrace::Track& t) {
+    json out = json::array();
+    for (const jetrace::DrivabilityWarning& w : jetrace::check_drivability(t)) {
+        out.push_back({{"kind", w.kind},
+                       {"subject", w.subject},
+                       {"index", w.index},
+                       {"position", vec(w.position)},
+                       {"message", w.message}});
+    }
+    return out;
+}
+
 json summary(const jetrace::Track& t, const jetrace::TrackReport& r, double load_ms) {
     const std::string id = hex_identity(t);
-    return {{"name", t.name},
+    return {{"drivability", drivability(t)},
+            {"name", t.name},
             {"format", r.format},
             {"triangles", t.triangles.size()},
             {"source_triangles", r.source_triangles},
@@ -56,8 +72,11 @@ void print_text(const json& s) {
                 s["kill_height_m"].get<double>());
     std::printf("raceable   %s\nidentity   %s\nload       %.1f ms\n", s["raceable"].get<bool>() ? "yes" : "no",
                 s["identity"].get<std::string>().c_str(), s["load_ms"].get<double>());
-    std::printf("warnings   %zu\n", s["warnings"].size());
+    std::printf("warnings   %zu\n", s["warnings"].size() + s["drivability"].size());
     for (const json& w : s["warnings"]) std::printf("  - %s\n", w.get<std::string>().c_str());
+    for (const json& w : s["drivability"]) {
+        std::printf("  - [%s] %s\n", w["kind"].get<std::string>().c_str(), w["message"].get<std::string>().c_str());
+    }
 }
 
 int fail(const std::string& message) {
