@@ -59,9 +59,9 @@ jetrace_cli_test(NAME cli_view_bench_rejects_bad_seconds
   COMMAND sh -c "\"$0\" --seconds nan 2>&1; echo exit=$?" ${PROJECT_SOURCE_DIR}/tools/view_bench.sh
   REGEX "--seconds must be a whole number.*exit=2" LABELS quick)
 
-# The real levels (docs/tracks/godot-*, through docs/tracks/*.track.json): 8 AI
+# The real levels (docs/tracks/godot-*, sauerbraten-*, redeclipse-*, through docs/tracks/*.track.json): 8 AI
 # cars race a few seconds on each (laps are not asserted). Then jetrace-track.
-foreach(level truck_town zdm2)
+foreach(level truck_town zdm2 fdm6 pandora dutility)
   jetrace_cli_test(NAME sim_real_track_${level}
     COMMAND jetrace-sim --track ${PROJECT_SOURCE_DIR}/docs/tracks/${level}.track.json --cars 8 --seconds 5
     REGEX "state_hash=[0-9a-f]+" LABELS quick TIMEOUT 120)

@@ -1,7 +1,8 @@
 // The driving AI completes laps of `stadium` (wall included), of tracks
 // imported from OBJ files, including shapes it was not tuned on, and of a
 // real levels loaded through their manifests (docs/tracks/zdm2.track.json,
-// docs/tracks/truck_town.track.json).
+// docs/tracks/truck_town.track.json, and the OBJ levels fdm6, pandora and
+// dutility).
 #include "jetrace/ai/offline_race.hpp"
 #include "jetrace/tracks/builtin_tracks.hpp"
 #include "jetrace/tracks/track_io.hpp"
@@ -103,4 +104,21 @@ TEST(AiTracks, CarsSlowForTheCrestsOfTruckTown) {
         EXPECT_EQ(finishers(truck_town(), 8, 1, 120, seed, respawns), 8) << "seed " << seed;
     }
     EXPECT_LE(respawns, 3) << "of 24 cars";
+}
+
+TEST(AiTracks, SevenOfEightFinishALapOfEachObjLevel) {
+    // Real levels exported as OBJ from Cube 2: Sauerbraten (fdm6, pandora) and
+    // Red Eclipse (dutility), routed on one floor each (docs/tracks/), over
+    // three skill seeds.
+    for (const char* level : {"fdm6", "pandora", "dutility"}) {
+        jetrace::Track t;
+        std::string error;
+        ASSERT_TRUE(jetrace::load_track(std::string(JETRACE_SOURCE_DIR) + "/docs/tracks/" + level + ".track.json", t,
+                                        error))
+            << level << ": " << error;
+        for (std::uint64_t seed : {1u, 2u, 3u}) {
+            int respawns = 0;
+            EXPECT_GE(finishers(t, 8, 1, 120, seed, respawns), 7) << level << ", skill seed " << seed;
+        }
+    }
 }
