@@ -17,8 +17,8 @@
 # Usage: tools/bench_compare.sh [BASE] [--rounds N] [--core C] [--smoke]
 #                               [--base-build DIR] [--head-build DIR] [--keep DIR]
 #   BASE          a commit (default: $JETRACE_BENCH_BASE, else the merge base
-#                 with the branch's upstream, else HEAD: uncommitted changes
-#                 against the last commit)
+#                 with the branch's upstream, else where the branch was when
+#                 this checkout began: the oldest entry of its reflog)
 #   --rounds N    A/B rounds (default 5; 1 with --smoke)
 #   --core C      the core to pin to (default: the last one)
 #   --smoke       tiny runs of every command (checks the tool works, not speed)
@@ -65,7 +65,10 @@ if [ -z "$base" ]; then
   if upstream="$(git rev-parse --abbrev-ref --symbolic-full-name '@{upstream}' 2>/dev/null)"; then
     base="$(git merge-base HEAD "$upstream")"
   else
-    base=HEAD
+    # Where the branch was when this checkout began: its reflog's oldest entry.
+    branch="$(git symbolic-ref -q --short HEAD || echo HEAD)"
+    base="$(git reflog show --format=%H "$branch" 2>/dev/null | tail -1)"
+    base="${base:-HEAD}"
   fi
 fi
 base_sha="$(git rev-parse --verify --quiet "$base^{commit}")" || { echo "bench_compare: '$base' is not a commit" >&2; exit 2; }
