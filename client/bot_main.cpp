@@ -1,10 +1,12 @@
-// jetrace-bot: K AI drivers, each its own client and ENet connection. A
-// dropped bot reconnects to its car within --reconnect-grace; with connect
-// tokens (--token, --token-file) it joins a private race. The server's
-// Welcome names its track; each bot races on the built-in track (or the
-// --track file) with the same identity.
+// jetrace-bot: K AI drivers, each its own client and ENet connection. The
+// bots of one server address join --join-limit at a time (join_pacing.hpp),
+// within the server's pre-Hello cap. A dropped bot reconnects to its car
+// within --reconnect-grace; with connect tokens (--token, --token-file) it
+// joins a private race. The server's Welcome names its track; each bot races
+// on the built-in track (or the --track file) with the same identity.
 #include "bot_options.hpp"
 #include "bot_report.hpp"
+#include "join_pacing.hpp"
 
 #include "jetrace/ai/driver_ai.hpp"
 #include "jetrace/ai/offline_race.hpp"
@@ -18,7 +20,9 @@
 #include <csignal>
 #include <cstdio>
 #include <memory>
+#include <string>
 #include <thread>
+#include <vector>
 
 namespace {
 
@@ -30,10 +34,14 @@ std::atomic<int> g_signal{0};
 void on_signal(int sig) { g_signal = sig; }
 
 struct Bot {
+    /// nullptr until its turn to join comes (join_pacing.hpp).
     std::unique_ptr<jetrace::client::RaceClient> client;
     std::string name;
     jetrace::DriverSkill skill;
     jetrace::CourseCache course;  // the AI's view of the scene the client races on
+    jetrace::client::ClientConfig config;
+    /// Its server: BotOptions::addresses[address].
+    std::size_t address = 0;
     bool done = false;
 };
 
@@ -55,51 +63,82 @@ jetrace::client::ClientConfig config_for(const BotOptions& o, int i, std::string
     return cc;
 }
 
-/// False (a message printed) if a bot cannot open its connection.
-bool make_bots(const BotOptions& o, const jetrace::client::KnownScenes& known, std::vector<Bot>& bots) {
+/// The bots, none connected yet.
+std::vector<Bot> make_bots(const BotOptions& o) {
     const auto skills = jetrace::skills_for(o.count, o.seed);
+    std::vector<Bot> bots;
     for (int i = 0; i < o.count; ++i) {
         Bot b;
         b.skill = skills[static_cast<std::size_t>(i)];
-        const jetrace::client::ClientConfig cc = config_for(o, i, b.name);
-        const jetrace::bot::Address& to = o.addresses[static_cast<std::size_t>(i) % o.addresses.size()];
-        b.client = std::make_unique<jetrace::client::RaceClient>(cc, known, [to] {
+        b.config = config_for(o, i, b.name);
+        b.address = static_cast<std::size_t>(i) % o.addresses.size();
+        bots.push_back(std::move(b));
+    }
+    return bots;
+}
+
+jetrace::bot::JoinPhase phase_of(const Bot& b) {
+    using jetrace::bot::JoinPhase;
+    if (!b.client) return JoinPhase::waiting;
+    if (b.done) return JoinPhase::through;
+    switch (b.client->state()) {
+        case ClientState::connecting:
+        case ClientState::waiting_welcome:
+        case ClientState::reconnecting: return JoinPhase::joining;
+        default: return JoinPhase::through;
+    }
+}
+
+/// Opens the connections of the waiting bots whose turn has come; a bot
+/// that cannot open one is done (a message printed).
+void start_due(const BotOptions& o, const jetrace::client::KnownScenes& known, std::vector<Bot>& bots,
+               std::size_t& done) {
+    std::vector<jetrace::bot::JoinPhase> phase;
+    std::vector<std::size_t> address;
+    for (const Bot& b : bots) {
+        phase.push_back(phase_of(b));
+        address.push_back(b.address);
+    }
+    for (const std::size_t i : jetrace::bot::bots_to_start(phase, address, o.addresses.size(), o.join_limit)) {
+        Bot& b = bots[i];
+        const jetrace::bot::Address to = o.addresses[b.address];
+        b.client = std::make_unique<jetrace::client::RaceClient>(b.config, known, [to] {
             std::string e;
             auto t = jetrace::net::connect_enet(to.host, to.port, 5000, e);
             if (!t) spdlog::error("cannot connect: {}", e);
             return t;
         });
-        if (b.client->state() == ClientState::closed) {
-            std::fprintf(stderr, "jetrace-bot: cannot open a connection to %s:%u\n", to.host.c_str(),
-                         static_cast<unsigned>(to.port));
-            return false;
-        }
-        bots.push_back(std::move(b));
+        if (b.client->state() != ClientState::closed) continue;
+        std::fprintf(stderr, "jetrace-bot: %s: cannot open a connection to %s:%u\n", b.name.c_str(), to.host.c_str(),
+                     static_cast<unsigned>(to.port));
+        b.done = true;
+        ++done;
     }
-    return true;
 }
 
 /// Runs the bots until each is done, --max-seconds or a signal; true if
 /// stopped (the bots not done then left).
-bool run(const BotOptions& o, std::vector<Bot>& bots, Clock::time_point start) {
+bool run(const BotOptions& o, const jetrace::client::KnownScenes& known, std::vector<Bot>& bots,
+         Clock::time_point start) {
     const auto now_us = [&] {
         return static_cast<std::uint64_t>(std::chrono::duration<double, std::micro>(Clock::now() - start).count() *
                                           o.time_scale);
     };
     std::size_t done = 0;
     while (done < bots.size()) {
+        start_due(o, known, bots, done);
         const std::uint64_t t = now_us();
         // Every bot's due ticks and inputs first, then the network and the
         // reconciliations: no input waits for the other bots' replays.
         for (Bot& b : bots) {
-            if (b.done) continue;
+            if (b.done || !b.client) continue;
             const auto skill = b.skill;
             b.client->run_due(t, [&](const jetrace::Scene& sc, const jetrace::WorldState& w, int slot) {
                 return jetrace::drive(b.course(sc), w, slot, skill);
             });
         }
         for (Bot& b : bots) {
-            if (b.done) continue;
+            if (b.done || !b.client) continue;
             b.client->receive(t);
             const bool finished_races = b.client->races_finished() >= static_cast<std::uint32_t>(o.races);
             if (finished_races) b.client->leave("done racing");
@@ -113,7 +152,7 @@ bool run(const BotOptions& o, std::vector<Bot>& bots, Clock::time_point start) {
             // Say goodbye, so that the server frees the slots at once.
             const std::string why = g_signal != 0 ? "bot stopped by a signal" : "bot gave up (--max-seconds)";
             for (Bot& b : bots) {
-                if (!b.done) b.client->leave(why);
+                if (!b.done && b.client) b.client->leave(why);
             }
             return true;
         }
@@ -122,27 +161,28 @@ bool run(const BotOptions& o, std::vector<Bot>& bots, Clock::time_point start) {
     return false;
 }
 
-/// Prints the refusals and mismatches (stderr) and each bot's line (stdout);
-/// returns the exit code.
+/// Prints each bot's line (stdout), then why the bots that gave up did and
+/// the track mismatches (stderr); returns the exit code.
 int report(const BotOptions& o, const std::vector<Bot>& bots, bool stopped, double wall_s) {
-    for (const Bot& b : bots) {
-        const std::string& why = b.client->close_reason();
-        const std::uint16_t code = b.client->close_code();
-        if (jetrace::proto::close_class(code) == jetrace::proto::CloseClass::refused)
-            std::fprintf(stderr, "jetrace-bot: %s: %s\n", b.name.c_str(), why.c_str());
-        if (code == static_cast<std::uint16_t>(jetrace::proto::CloseCode::local_incompatible) ||
-            code == static_cast<std::uint16_t>(jetrace::proto::CloseCode::local_bad_track)) {
-            std::fprintf(stderr, "jetrace-bot: %s%s\n", why.c_str(),
-                         o.track_spec.empty() ? " (pass --track with the server's track file)" : "");
-        }
-    }
     auto rc = jetrace::bot::kFinished;
+    std::vector<std::string> problems;
     for (const Bot& b : bots) {
         jetrace::bot::ExitCode code{};
-        jetrace::bot::print_bot_line(*b.client, b.name, stopped && !b.done, wall_s, code);
+        jetrace::bot::print_bot_line(b.client.get(), b.name, stopped && !b.done, wall_s, code);
         rc = jetrace::bot::combine(rc, code);
+        if (!b.client) continue;
+        const std::string& why = b.client->close_reason();
+        const std::uint16_t close = b.client->close_code();
+        if (std::string line = jetrace::bot::give_up_line(b.name, code, close, why); !line.empty())
+            problems.push_back(std::move(line));
+        if (close == static_cast<std::uint16_t>(jetrace::proto::CloseCode::local_incompatible) ||
+            close == static_cast<std::uint16_t>(jetrace::proto::CloseCode::local_bad_track)) {
+            problems.push_back("jetrace-bot: " + why +
+                               (o.track_spec.empty() ? " (pass --track with the server's track file)" : ""));
+        }
     }
     std::fflush(stdout);
+    for (const std::string& line : problems) std::fprintf(stderr, "%s\n", line.c_str());
     return rc;
 }
 
@@ -158,12 +198,11 @@ int main(int argc, char** argv) {
     if (!jetrace::bot::load_scenes(o.track_spec, scenes)) return jetrace::bot::kBadArguments;
     jetrace::client::KnownScenes known;
     for (const auto& sc : scenes) known.push_back(sc.get());
-    std::vector<Bot> bots;
+    std::vector<Bot> bots = make_bots(o);
     const auto start = Clock::now();
-    if (!make_bots(o, known, bots)) return jetrace::bot::kLostConnection;
     std::signal(SIGTERM, on_signal);
     std::signal(SIGINT, on_signal);
-    const bool stopped = run(o, bots, start);
+    const bool stopped = run(o, known, bots, start);
     // Rates per simulated second (wall time scaled by --time-scale).
     const double wall_s = std::chrono::duration<double>(Clock::now() - start).count() * o.time_scale;
     return report(o, bots, stopped, wall_s);

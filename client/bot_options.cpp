@@ -77,8 +77,14 @@ void add_options(CLI::App& app, BotOptions& o) {
                    "so the other bots' predictions know it)")
         ->check(CLI::Range(std::uint32_t{0}, client::kMaxInputDelayTicks));
     app.add_option("--join-window", o.join_window_s,
-                   "if the server cannot be reached, keep trying to join this long (s; 0: never)")
+                   "if the server cannot be reached or its pre-Hello cap refuses a connection, keep trying to join "
+                   "this long (s; 0: never)")
         ->check(cli::finite())->check(CLI::Range(0.0, 3600.0));
+    app.add_option("--join-limit", o.join_limit,
+                   "bots of one --connect address joining at a time (connection opened, no Welcome yet); the next "
+                   "connects when one is welcomed or gives up. Must not exceed the server's --pre-hello-limit "
+                   "(default 4), which refuses further connections from one address")
+        ->check(CLI::Range(1, 1000));
     app.add_option("--reconnect-grace", o.reconnect_grace_s,
                    "after a drop, try to get the car back this long (s; the server's --reconnect-grace; 0: never)")
         ->check(cli::finite())->check(CLI::Range(0.0, 3600.0));

@@ -37,6 +37,11 @@ struct BotOptions {
     double reconnect_grace_s = 10.0;
     /// (unit: s of real time)
     double join_window_s = 10.0;
+    /// Bots of one --connect address joining at a time: connection opened,
+    /// no Welcome yet (join_pacing.hpp). At most the server's
+    /// --pre-hello-limit (4 by default), which refuses connections beyond it
+    /// (unit: bots).
+    int join_limit = 4;
     /// (unit: ticks)
     double target_margin = client::ClientConfig{}.target_margin_ticks;
     /// Bots decide their inputs this many ticks ahead (ClientConfig::

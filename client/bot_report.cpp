@@ -4,6 +4,8 @@
 #include <nlohmann/json.hpp>
 
 #include <cstdio>
+#include <string>
+#include <string_view>
 
 namespace jetrace::bot {
 
@@ -47,38 +49,70 @@ ExitCode combine(ExitCode a, ExitCode b) {
     return kFinished;
 }
 
-bool print_bot_line(const client::RaceClient& c, const std::string& name, bool stopped, double wall_s,
+namespace {
+
+/// What a bot that gave up with `close_code` can do about it ("": nothing to say).
+const char* give_up_hint(std::uint16_t close_code) {
+    switch (static_cast<proto::CloseCode>(close_code)) {
+        case proto::CloseCode::refused_pre_hello_cap:
+            return "keep --join-limit at most the server's --pre-hello-limit, or run fewer clients from this address "
+                   "at once";
+        case proto::CloseCode::local_connection_lost:
+            return "no server answered at that address, or the connection dropped for good";
+        case proto::CloseCode::local_no_welcome: return "the server never answered the Hello";
+        default: return "";
+    }
+}
+
+}  // namespace
+
+std::string give_up_line(const std::string& name, ExitCode code, std::uint16_t close_code,
+                         const std::string& reason) {
+    if (code != kRefused && code != kLostConnection) return "";
+    const std::string_view code_name = proto::close_code_name(close_code);
+    std::string line = "jetrace-bot: " + name + ": " + reason + " [" +
+                       (code_name.empty() ? std::string("close code") : std::string(code_name)) + " " +
+                       std::to_string(close_code) + "]";
+    const std::string hint = give_up_hint(close_code);
+    if (!hint.empty()) line += ": " + hint;
+    return line;
+}
+
+bool print_bot_line(const client::RaceClient* c, const std::string& name, bool stopped, double wall_s,
                     ExitCode& code) {
-    const auto& r = c.results();
     int position = 0;
     bool finished = false;
-    for (std::size_t i = 0; i < r.standings.size(); ++i) {
-        if (r.standings[i].slot == c.slot() && r.standings[i].name == name) {
-            position = static_cast<int>(i) + 1;
-            finished = r.standings[i].finished;
+    if (c != nullptr) {
+        const auto& r = c->results();
+        for (std::size_t i = 0; i < r.standings.size(); ++i) {
+            if (r.standings[i].slot == c->slot() && r.standings[i].name == name) {
+                position = static_cast<int>(i) + 1;
+                finished = r.standings[i].finished;
+            }
         }
     }
-    code = outcome_of(c, finished, stopped);
-    const auto totals = c.totals();
+    code = c != nullptr ? outcome_of(*c, finished, stopped) : kStopped;
+    const client::ClientStats stats = c != nullptr ? c->stats() : client::ClientStats{};
+    const net::Totals totals = c != nullptr ? c->totals() : net::Totals{};
     nlohmann::json j;
     j["name"] = name;
     j["finished"] = finished;
     j["position"] = position;
     j["outcome"] = outcome_name(code);
-    j["corrections"] = c.stats().corrections;
-    j["corrections_late"] = c.stats().corrections_late;
-    j["corrections_near_car"] = c.stats().corrections_near_car;
-    j["max_correction_m"] = c.stats().max_correction_m;
-    j["snapshots"] = c.stats().snapshots;
-    j["rtt_ms"] = c.rtt_ms();
-    j["reconnects"] = c.stats().reconnects;
-    j["late_inputs"] = c.stats().late_inputs;
-    j["replayed_ticks"] = c.stats().replayed_ticks;
-    j["skipped_replays"] = c.stats().skipped_replays;
-    j["reused_car_steps"] = c.stats().reused_car_steps;
+    j["corrections"] = stats.corrections;
+    j["corrections_late"] = stats.corrections_late;
+    j["corrections_near_car"] = stats.corrections_near_car;
+    j["max_correction_m"] = stats.max_correction_m;
+    j["snapshots"] = stats.snapshots;
+    j["rtt_ms"] = c != nullptr ? c->rtt_ms() : 0.0;
+    j["reconnects"] = stats.reconnects;
+    j["late_inputs"] = stats.late_inputs;
+    j["replayed_ticks"] = stats.replayed_ticks;
+    j["skipped_replays"] = stats.skipped_replays;
+    j["reused_car_steps"] = stats.reused_car_steps;
     j["down_bytes_per_s"] = static_cast<double>(totals.bytes_received) / wall_s;
     j["up_bytes_per_s"] = static_cast<double>(totals.bytes_sent) / wall_s;
-    j["closed"] = c.close_reason();
+    j["closed"] = c != nullptr ? c->close_reason() : std::string("stopped before it connected");
     std::printf("%s\n", j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
     return finished;
 }

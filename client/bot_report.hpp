@@ -3,6 +3,7 @@
 
 #include "jetrace/client/race_client.hpp"
 
+#include <cstdint>
 #include <string>
 
 namespace jetrace::bot {
@@ -25,8 +26,17 @@ const char* outcome_name(ExitCode code);
 ExitCode combine(ExitCode a, ExitCode b);
 
 /// Prints one JSON line (stdout) for a bot; returns whether it finished.
-bool print_bot_line(const client::RaceClient& c, const std::string& name, bool stopped, double wall_s,
+/// `c` nullptr: a bot stopped before it opened its connection (outcome
+/// `stopped`, every figure 0).
+bool print_bot_line(const client::RaceClient* c, const std::string& name, bool stopped, double wall_s,
                     ExitCode& code);
+
+/// The stderr line of a bot whose outcome is `code`, if it gave up: refused
+/// or its connection lost for good. Its name, why (the close code's name
+/// and number, the client's reason) and, for codes that have one, what to
+/// do; "" for other outcomes.
+std::string give_up_line(const std::string& name, ExitCode code, std::uint16_t close_code,
+                         const std::string& reason);
 
 inline constexpr const char* kExitCodesHelp =
     "Exit codes: 0 every bot finished; 1 a bot did not finish its race; 2 bad arguments (or a track it does not "

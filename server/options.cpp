@@ -28,8 +28,8 @@ void add_race_options(CLI::App& app, HostOptions& o) {
     app.add_option("--port", o.net_cfg.port, "UDP port (0: any free port, printed at start)");
     app.add_option("--bind", o.net_cfg.bind, "address to bind");
     app.add_option("--pre-hello-limit", o.net_cfg.max_pending_per_address,
-                   "most connections one IP address may hold before their Hello; further requests are dropped "
-                   "(0: no limit)")
+                   "most connections one IP address may hold before their Hello; further requests are refused "
+                   "(close code 2008, the client may try again) (0: no limit)")
         ->check(CLI::Range(0, 1000));
     app.add_option("--track", o.track_spec, "built-in track (stadium, ring) or a Wavefront .obj file");
     app.add_option("--laps", cfg.laps, "laps per race")->check(in_range(L::laps));

@@ -2,7 +2,8 @@
 # jetrace-bot's exits: --max-seconds and SIGTERM say Goodbye (the server
 # frees the slot at once, not after its reconnect grace), print a JSON line
 # per bot and exit 6; a refused bot exits 3 with the reason on stderr; an
-# unreachable server gives 4; a server that shuts down gives 5.
+# unreachable server gives 4 (and the bot says why on stderr); a server that
+# shuts down gives 5.
 # Usage: bot_exits.sh SERVER BOT
 set -euo pipefail
 . "$(dirname "$0")/../tools/server_port.sh"
@@ -59,7 +60,10 @@ pid=""
 
 # Nobody there.
 rc=0
-bot_run --name lonely --join-window 1 --max-seconds 20 >"$out/lonely.json" 2>/dev/null || rc=$?
+bot_run --name lonely --join-window 1 --max-seconds 20 >"$out/lonely.json" 2>"$out/lonely.err" || rc=$?
 [ "$rc" = 4 ] || { cat "$out/lonely.json"; echo "an unreachable server gave $rc, not 4"; exit 1; }
 grep -q '"outcome":"lost_connection"' "$out/lonely.json" || { cat "$out/lonely.json"; exit 1; }
+# The bot that gave up says why: its name, the reason and the close code.
+grep -q '^jetrace-bot: lonely0: disconnected: could not join within 1.* \[local_connection_lost 3003\]' "$out/lonely.err" ||
+  { cat "$out/lonely.err"; echo "the lonely bot did not say why it gave up"; exit 1; }
 echo "bot exits ok"

@@ -154,6 +154,8 @@ jetrace_cli_test(NAME cli_bot_rejects_infinite_time_scale COMMAND jetrace-bot --
 # Matched on CLI11's message: a bot that ran instead would also exit non-zero.
 jetrace_cli_test(NAME cli_bot_rejects_negative_join_window COMMAND jetrace-bot --connect 127.0.0.1:9 --join-window -1
   REGEX "--join-window: Value -1 not in range" LABELS quick TIMEOUT 20)
+jetrace_cli_test(NAME cli_bot_rejects_zero_join_limit COMMAND jetrace-bot --connect 127.0.0.1:9 --join-limit 0
+  REGEX "--join-limit: Value 0 not in range" LABELS quick TIMEOUT 20)
 jetrace_cli_test(NAME cli_bot_rejects_input_delay_over_30_ticks COMMAND jetrace-bot --connect 127.0.0.1:9 --input-delay 31
   REGEX "--input-delay: Value 31 not in range" LABELS quick TIMEOUT 20)
 jetrace_cli_test(NAME cli_bot_rejects_fractional_input_delay COMMAND jetrace-bot --connect 127.0.0.1:9 --input-delay 2.5

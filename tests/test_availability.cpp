@@ -127,10 +127,12 @@ std::size_t count(const std::vector<net::Event>& events, net::Event::Type type) 
         std::count_if(events.begin(), events.end(), [type](const net::Event& e) { return e.type == type; }));
 }
 
-// The cap at the transport: with 1, a second connection from the same address
-// (another port) gets no slot until the first is admitted; then its ENet
-// resend gets in.
-TEST(Availability, TransportHoldsBackAnAddressAtItsCapUntilAdmit) {
+// The cap at the transport: with 1, a second connection from the same
+// address (another port) gets no slot until the first is admitted: its
+// request is answered at once with an ENet disconnect carrying
+// kPreHelloRefusal, long before ENet's first resend (0.5 s) or timeout.
+// Once the first is admitted, a new one gets in.
+TEST(Availability, TransportRefusesAnAddressAtItsCapUntilAdmit) {
     net::ServerConfig cfg;
     cfg.bind = "127.0.0.1";
     cfg.max_connections = 8;
@@ -140,22 +142,46 @@ TEST(Availability, TransportHoldsBackAnAddressAtItsCapUntilAdmit) {
     ASSERT_TRUE(server) << error;
     auto a = net::connect_enet("127.0.0.1", server->local_port(), 5000, error);
     ASSERT_TRUE(a) << error;
-    std::vector<net::Event> se, ae, be;
+    std::vector<net::Event> se, ae, be, ce;
     using Ev = net::Event::Type;
     ASSERT_TRUE(pump({{server.get(), &se}, {a.get(), &ae}}, [&] { return count(se, Ev::connected) == 1; }, 2000));
     const net::PeerId first = se.front().peer;
     auto b = net::connect_enet("127.0.0.1", server->local_port(), 5000, error);
     ASSERT_TRUE(b) << error;
-    // Its first try and its resend 0.5 s later are both dropped.
-    EXPECT_FALSE(pump({{server.get(), &se}, {a.get(), &ae}, {b.get(), &be}},
-                      [&] { return count(se, Ev::connected) > 1; }, 1200));
-    EXPECT_GE(server->totals().connects_refused, 2u);
+    const auto asked = Clock::now();
+    ASSERT_TRUE(pump({{server.get(), &se}, {a.get(), &ae}, {b.get(), &be}},
+                     [&] { return count(be, Ev::disconnected) == 1; }, 3000));
+    EXPECT_LT(Clock::now() - asked, std::chrono::milliseconds(400)) << "the refusal was not answered";
+    EXPECT_EQ(be.back().close_code, net::kPreHelloRefusal);
     EXPECT_EQ(count(be, Ev::connected), 0u);
+    EXPECT_EQ(count(se, Ev::connected), 1u);
+    EXPECT_GE(server->totals().connects_refused, 1u);
     server->admit(first);
-    // The next resend (1.5 s after the first try) finds the address below its cap.
-    EXPECT_TRUE(pump({{server.get(), &se}, {a.get(), &ae}, {b.get(), &be}},
-                     [&] { return count(se, Ev::connected) == 2 && count(be, Ev::connected) == 1; }, 3000));
-    EXPECT_EQ(count(ae, Ev::disconnected) + count(be, Ev::disconnected) + count(se, Ev::disconnected), 0u);
+    auto c = net::connect_enet("127.0.0.1", server->local_port(), 5000, error);
+    ASSERT_TRUE(c) << error;
+    EXPECT_TRUE(pump({{server.get(), &se}, {a.get(), &ae}, {c.get(), &ce}},
+                     [&] { return count(se, Ev::connected) == 2 && count(ce, Ev::connected) == 1; }, 2000));
+    EXPECT_EQ(count(ae, Ev::disconnected) + count(ce, Ev::disconnected) + count(se, Ev::disconnected), 0u);
+}
+
+// An attempt nobody answers (no server on the port) times out with no code:
+// the client tells a dead server from the cap's refusal by the code alone.
+TEST(Availability, AnUnansweredAttemptEndsWithoutACode) {
+    std::uint16_t port = 0;
+    {
+        net::ServerConfig cfg;
+        cfg.bind = "127.0.0.1";
+        std::string error;
+        auto gone = net::listen_enet(cfg, error);
+        ASSERT_TRUE(gone) << error;
+        port = gone->local_port();
+    }
+    std::string error;
+    auto c = net::connect_enet("127.0.0.1", port, 400, error);
+    ASSERT_TRUE(c) << error;
+    std::vector<net::Event> ce;
+    ASSERT_TRUE(pump({{c.get(), &ce}}, [&] { return count(ce, net::Event::Type::disconnected) == 1; }, 3000));
+    EXPECT_EQ(ce.back().close_code, 0u);
 }
 
 TEST(Availability, OneSocketWithoutHellosLocksNobodyOut) {

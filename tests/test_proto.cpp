@@ -582,11 +582,14 @@ TEST(CloseCodes, NamesAndRanges) {
         EXPECT_EQ(jp::close_class(u(c)), CloseClass::normal) << u(c);
     for (CloseCode c : {CloseCode::refused_version, CloseCode::refused_token, CloseCode::refused_clock,
                         CloseCode::refused_full, CloseCode::refused_reconnect, CloseCode::refused_draining,
-                        CloseCode::refused_unallocated})
+                        CloseCode::refused_unallocated, CloseCode::refused_observers_full,
+                        CloseCode::refused_pre_hello_cap})
         EXPECT_EQ(jp::close_class(u(c)), CloseClass::refused) << u(c);
     for (CloseCode c : {CloseCode::no_hello, CloseCode::malformed, CloseCode::protocol_violation})
         EXPECT_EQ(jp::close_class(u(c)), CloseClass::remote_fault) << u(c);
     EXPECT_EQ(jp::close_code_name(u(CloseCode::refused_full)), "refused_full");
+    EXPECT_EQ(u(CloseCode::refused_pre_hello_cap), 2008);
+    EXPECT_EQ(jp::close_code_name(2008), "refused_pre_hello_cap");
     EXPECT_EQ(jp::close_code_name(2999), "");
     EXPECT_EQ(jp::close_class(2999), CloseClass::refused);
     EXPECT_EQ(jp::close_class(7000), CloseClass::other);

@@ -80,7 +80,7 @@ for i in $(seq 1 "$servers"); do
   /usr/bin/time -f '%U %S %e' -o "$out/server$i.time" \
     "$server" --bind 127.0.0.1 --port 0 --track "$track" --laps "$laps" \
     --min-players "$per_server" --max-players "$per_server" --races 1 --time-scale "$scale" \
-    --pre-hello-limit 0 "${window_arg[@]}" --results "$out/results$i.json" --log-level warn >"$out/server$i.log" 2>&1 &
+    "${window_arg[@]}" --results "$out/results$i.json" --log-level warn >"$out/server$i.log" 2>&1 &
   pids+=($!)
   port="$(server_port "$out/server$i.log")"
   connects+=(--connect "127.0.0.1:$port")

@@ -86,10 +86,10 @@ trap cleanup EXIT
 bot_races=1000000
 if [ "$races" -gt 0 ]; then bot_races="$races"; fi
 # Every bot reaches the server through jetrace-netsim, so all share the
-# proxy's address: a proxy that hides the clients' addresses needs the
-# per-address pre-Hello cap lifted (docs/HOSTING.md, "Availability"), or
-# bots past the cap wait out ENet's resends and some time out joining.
-"$bin/server/jetrace-server" --bind 127.0.0.1 --port 0 --pre-hello-limit 0 --track "$track" --laps "$laps" \
+# proxy's address and its pre-Hello cap (docs/HOSTING.md, "Availability"):
+# jetrace-bot opens their connections --join-limit (4, the cap's default)
+# at a time, and one the cap refuses all the same is tried again.
+"$bin/server/jetrace-server" --bind 127.0.0.1 --port 0 --track "$track" --laps "$laps" \
   --min-players "$bots" --max-players "$bots" --races 0 --time-scale "$scale" --results "$out/results.json" \
   --record "$out/race.replay" --log-level "$log_level" >"$out/server.log" 2>&1 &
 server_pid=$!

@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+
 namespace jetrace::client {
 
 namespace {
@@ -9,6 +11,16 @@ namespace {
 std::uint64_t to_us(double s) { return static_cast<std::uint64_t>(s * 1e6); }
 
 std::string server_said(const proto::Goodbye& g) { return "server: " + g.reason; }
+
+static_assert(net::kPreHelloRefusal == static_cast<std::uint16_t>(proto::CloseCode::refused_pre_hello_cap),
+              "the transport's refusal is the protocol's close code");
+
+/// Doublings of the pause between attempts after refusals in a row (the
+/// pause goes 1, 2, 4 times reconnect_retry_s, then stays; each spread).
+constexpr int kMaxBackoffDoublings = 2;
+
+constexpr const char* kCapRefusal =
+    "refused: too many connections from this address are waiting for their Hello (the server's pre-Hello cap)";
 
 }  // namespace
 
@@ -76,14 +88,7 @@ bool Link::poll(std::uint64_t now_us, std::vector<net::Event>& events) {
         const bool rejoin = state_ == LinkState::rejoin_due || state_ == LinkState::rejoining;
         const double window_s = rejoin ? config_.join_window_s : config_.reconnect_window_s;
         if (now_us_ - dropped_at_us_ > to_us(window_s)) {
-            // An attempt still under way must not be admitted after we gave up.
-            if (transport_) {
-                transport_->disconnect(0);
-                transport_->flush();
-            }
-            close(std::string("disconnected: could not ") + (rejoin ? "join" : "reconnect") + " within " +
-                      std::to_string(window_s) + " s",
-                  proto::CloseCode::local_connection_lost);
+            give_up(rejoin, window_s);
         } else if (connection_due() && now_us_ >= next_attempt_us_) {
             open_due_connection();
         }
@@ -94,6 +99,27 @@ bool Link::poll(std::uint64_t now_us, std::vector<net::Event>& events) {
     return true;
 }
 
+void Link::give_up(bool rejoin, double window_s) {
+    // An attempt still under way must not be admitted after we gave up.
+    if (transport_) {
+        transport_->disconnect(0);
+        transport_->flush();
+    }
+    const std::string within =
+        std::string("could not ") + (rejoin ? "join" : "reconnect") + " within " + std::to_string(window_s) + " s";
+    if (cap_refusals_ > 0) {
+        return close(std::string(kCapRefusal) + "; " + within, proto::CloseCode::refused_pre_hello_cap);
+    }
+    close("disconnected: " + within, proto::CloseCode::local_connection_lost);
+}
+
+std::uint64_t Link::retry_delay_us() {
+    const std::uint64_t retry = to_us(config_.reconnect_retry_s);
+    if (cap_refusals_ == 0) return retry;
+    const std::uint64_t base = retry << std::clamp(cap_refusals_ - 1, 0, kMaxBackoffDoublings);
+    return std::uniform_int_distribution<std::uint64_t>(base / 2, base + base / 2)(jitter_);
+}
+
 void Link::open_due_connection() {
     // The old connection is dead: keep its figures, open a new one.
     past_totals_ = totals();
@@ -101,14 +127,18 @@ void Link::open_due_connection() {
     transport_ = nullptr;
     owned_ = connector_();
     transport_ = owned_.get();
+    up_ = false;
     if (transport_) state_ = state_ == LinkState::rejoin_due ? LinkState::rejoining : LinkState::reconnecting;
     next_attempt_us_ = now_us_ + to_us(config_.reconnect_retry_s);
 }
 
 void Link::on_connection_event(const net::Event& e) {
     if (state_ == LinkState::closed) return;
-    if (e.type == net::Event::Type::connected) send_hello();
-    if (e.type == net::Event::Type::disconnected) on_disconnected();
+    if (e.type == net::Event::Type::connected) {
+        up_ = true;
+        send_hello();
+    }
+    if (e.type == net::Event::Type::disconnected) on_disconnected(e.close_code);
 }
 
 void Link::send_hello() {
@@ -129,11 +159,17 @@ void Link::send_hello() {
     transport_->send(0, net::Channel::reliable, proto::encode(h));
 }
 
-void Link::on_disconnected() {
+void Link::on_disconnected(std::uint16_t code) {
+    // The cap answers a connection request: only an attempt that never came up.
+    const bool cap_refused = code == net::kPreHelloRefusal && !up_;
+    cap_refusals_ = cap_refused ? cap_refusals_ + 1 : 0;
+    up_ = false;
+    if (cap_refused) spdlog::info("{}: {}", config_.name, kCapRefusal);
     if (reconnecting()) {
         if (goodbye_) return close_on_drop();  // the server said goodbye to the new connection
         state_ = state_ == LinkState::rejoining || state_ == LinkState::rejoin_due ? LinkState::rejoin_due
                                                                                   : LinkState::reconnect_due;
+        if (cap_refused) next_attempt_us_ = std::max(next_attempt_us_, now_us_ + retry_delay_us());
     } else if (may_reconnect()) {
         spdlog::info("{}: connection lost; reconnecting to slot {}", config_.name, slot_);
         state_ = LinkState::reconnect_due;
@@ -145,7 +181,7 @@ void Link::on_disconnected() {
         close_reason_.clear();
         state_ = LinkState::rejoin_due;
         dropped_at_us_ = now_us_;
-        next_attempt_us_ = now_us_ + to_us(config_.reconnect_retry_s);
+        next_attempt_us_ = now_us_ + retry_delay_us();
     } else {
         close_on_drop();
     }
@@ -153,6 +189,7 @@ void Link::on_disconnected() {
 
 void Link::close_on_drop() {
     if (goodbye_) return close(server_said(*goodbye_), static_cast<proto::CloseCode>(goodbye_->code));
+    if (cap_refusals_ > 0) return close(kCapRefusal, proto::CloseCode::refused_pre_hello_cap);
     close("disconnected", proto::CloseCode::local_connection_lost);
 }
 

@@ -17,9 +17,13 @@
 // - A full server silently ignores further connection attempts; the client
 //   then sees its attempt time out (a `disconnected` event).
 // - ENetHost::intercept sees every datagram the host receives, before ENet
-//   handles it (pre_hello_gate.hpp uses it to refuse connection requests).
+//   handles it (pre_hello_gate.hpp uses it to refuse connection requests,
+//   answered on the host's socket: connect_request.hpp).
+// - ENET_EVENT_TYPE_DISCONNECT's data is the 32-bit data of the peer's
+//   DISCONNECT command (0 on a timeout or a failed attempt).
 #include "jetrace/net/transport.hpp"
 
+#include "connect_request.hpp"
 #include "limits.hpp"
 #include "pre_hello_gate.hpp"
 
@@ -147,7 +151,18 @@ public:
     }
 
     // ENet's intercept callback, for a datagram `host` just received: 1 drops it.
-    int on_datagram(const ENetHost* host) { return host == host_ && gate_.refuse(*host_) ? 1 : 0; }
+    int on_datagram(const ENetHost* host) {
+        if (host != host_) return 0;
+        detail::ConnectRequest request;
+        switch (gate_.judge(*host_, request)) {
+            case detail::PreHelloGate::Verdict::pass: return 0;
+            case detail::PreHelloGate::Verdict::drop: return 1;
+            case detail::PreHelloGate::Verdict::refuse:
+                detail::answer_request(*host_, request, kPreHelloRefusal);
+                return 1;
+        }
+        return 1;
+    }
 
     // Client only: the peer of the connection attempt becomes PeerId 0.
     void adopt_server_peer(ENetPeer* peer) {
@@ -276,6 +291,7 @@ private:
                     Event e;
                     e.type = Event::Type::disconnected;
                     e.peer = id;
+                    if (ev.data <= 0xFFFFu) e.close_code = static_cast<std::uint16_t>(ev.data);
                     events.push_back(std::move(e));
                 }
                 ev.peer->data = nullptr;

@@ -1,5 +1,7 @@
 #include "pre_hello_gate.hpp"
 
+#include "jetrace/net/transport.hpp"
+
 #include <spdlog/spdlog.h>
 
 #include <array>
@@ -28,14 +30,27 @@ std::size_t slot_of(const ENetHost& host, const ENetPeer& peer) { return static_
 
 }  // namespace
 
-bool PreHelloGate::refuse(const ENetHost& host) {
-    if (cap_ == 0 || !addressed_to_no_peer(host)) return false;
+PreHelloGate::Verdict PreHelloGate::judge(const ENetHost& host, ConnectRequest& request) {
+    if (cap_ == 0 || !addressed_to_no_peer(host)) return Verdict::pass;
     const enet_uint32 from = host.receivedAddress.host;
     const std::size_t pending = pending_from(host, from);
-    if (pending < cap_) return false;
+    if (pending < cap_) return Verdict::pass;
+    const bool is_request = read_connect_request(host.receivedData, host.receivedDataLength, request);
+    if (is_request && held(host, request)) return Verdict::pass;
     ++refused_;
     log_once(from, pending);
-    return true;
+    return is_request ? Verdict::refuse : Verdict::drop;
+}
+
+bool PreHelloGate::held(const ENetHost& host, const ConnectRequest& request) {
+    for (std::size_t i = 0; i < host.peerCount; ++i) {
+        const ENetPeer& p = host.peers[i];
+        if (p.state != ENET_PEER_STATE_DISCONNECTED && p.address.host == host.receivedAddress.host &&
+            p.address.port == host.receivedAddress.port && p.connectID == request.connect_id) {
+            return true;
+        }
+    }
+    return false;
 }
 
 void PreHelloGate::admit(const ENetHost& host, const ENetPeer& peer) {
@@ -72,8 +87,9 @@ void PreHelloGate::log_once(enet_uint32 address, std::size_t pending) {
     std::array<char, 64> text{};
     if (enet_address_get_host_ip(&a, text.data(), text.size()) != 0) std::strcpy(text.data(), "?");
     spdlog::warn("pre-Hello cap: refusing connection requests from {}: it holds {} connections without a Hello "
-                 "(cap {}); logged once per address, counted in connects_refused",
-                 text.data(), pending, cap_);
+                 "(cap {}); they are answered with close code {}; logged once per address, counted in "
+                 "connects_refused",
+                 text.data(), pending, cap_, kPreHelloRefusal);
 }
 
 }  // namespace jetrace::net::detail

@@ -7,11 +7,15 @@
 // addressed to no peer (header peer id ENET_PROTOCOL_MAXIMUM_PEER_ID) is a
 // connection request, the only kind that makes ENet give out a slot; it is
 // dropped when its source address already holds `cap` connections that the
-// server has not admitted (handshakes in progress included). A dropped
-// request looks to the client like a lost datagram: its ENet retries it
-// (0.5, 1.5, 3.5 s after the first try) and times out after that, as
-// against a full server.
+// server has not admitted (handshakes in progress included). A well-formed
+// request (connect_request.hpp) is also refused: the transport answers it
+// with an ENet disconnect carrying kPreHelloRefusal, so the client's attempt
+// ends at once with that close code instead of timing out as against a
+// full server. The resend of a handshake the host already holds (the same
+// address, port and connect id) goes through to ENet, which ignores it.
 #pragma once
+
+#include "connect_request.hpp"
 
 #include <enet/enet.h>
 
@@ -30,9 +34,20 @@ public:
     /// The host's peer slots (call once, before the first datagram).
     void attach(const ENetHost& host) { admitted_.assign(host.peerCount, false); }
 
-    /// Whether to drop the datagram ENet just received (host.receivedData
+    enum class Verdict : std::uint8_t {
+        /// To ENet.
+        pass,
+        /// Dropped: addressed to no peer from an address at its cap, but no
+        /// connection request to answer.
+        drop,
+        /// A connection request from an address at its cap: dropped, and
+        /// `request` says whom to answer.
+        refuse,
+    };
+
+    /// What to do with the datagram ENet just received (host.receivedData
     /// from host.receivedAddress); counts and logs what it drops.
-    bool refuse(const ENetHost& host);
+    Verdict judge(const ENetHost& host, ConnectRequest& request);
 
     /// The server accepted the peer's Hello.
     void admit(const ENetHost& host, const ENetPeer& peer);
@@ -47,6 +62,8 @@ private:
     static constexpr std::size_t kMaxLoggedAddresses = 4096;
 
     std::size_t pending_from(const ENetHost& host, enet_uint32 address) const;
+    /// A resend of a handshake the host holds (same address, port, connect id).
+    static bool held(const ENetHost& host, const ConnectRequest& request);
     void log_once(enet_uint32 address, std::size_t pending);
 
     std::size_t cap_;

@@ -23,6 +23,7 @@ std::string_view close_code_name(std::uint16_t code) {
         case CloseCode::refused_draining: return "refused_draining";
         case CloseCode::refused_unallocated: return "refused_unallocated";
         case CloseCode::refused_observers_full: return "refused_observers_full";
+        case CloseCode::refused_pre_hello_cap: return "refused_pre_hello_cap";
         case CloseCode::no_hello: return "no_hello";
         case CloseCode::malformed: return "malformed";
         case CloseCode::protocol_violation: return "protocol_violation";

@@ -42,7 +42,11 @@ public:
 
     // The script: what the next service() hands out, in this order.
     void connect(net::PeerId peer = 0) { script(net::Event::Type::connected, peer, net::Channel::reliable, {}); }
-    void drop(net::PeerId peer = 0) { script(net::Event::Type::disconnected, peer, net::Channel::reliable, {}); }
+    /// `close_code`: what the disconnect carries (net::Event::close_code).
+    void drop(net::PeerId peer = 0, std::uint16_t close_code = 0) {
+        script(net::Event::Type::disconnected, peer, net::Channel::reliable, {});
+        pending_.back().close_code = close_code;
+    }
     void deliver(net::PeerId peer, net::Channel channel, std::vector<std::uint8_t> data) {
         script(net::Event::Type::received, peer, channel, std::move(data));
     }

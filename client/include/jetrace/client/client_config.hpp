@@ -40,11 +40,14 @@ struct ClientConfig {
     /// server's reconnect grace. Needs the Connector constructor; 0: never
     /// (unit: s).
     double reconnect_window_s = 10.0;
-    /// Pause between two reconnect or join attempts (unit: s).
+    /// Pause between two reconnect or join attempts. After attempts the
+    /// server's pre-Hello cap refused (proto::CloseCode::
+    /// refused_pre_hello_cap) in a row: this, twice this, then 4 times
+    /// this, each spread at random over 0.5 to 1.5 times (unit: s).
     double reconnect_retry_s = 0.5;
     /// If a connection attempt fails before it comes up (the server not up
-    /// yet, or unreachable for a while), keep trying to join this long after
-    /// the first failure. A connection that drops after the Hello went out
+    /// yet, unreachable for a while, or its pre-Hello cap refused the
+    /// connection), keep trying to join this long after the first failure. A connection that drops after the Hello went out
     /// is not retried: the server may have admitted it. Needs the Connector
     /// constructor; 0: never (unit: s).
     double join_window_s = 10.0;

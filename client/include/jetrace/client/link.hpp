@@ -13,6 +13,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -99,9 +100,18 @@ public:
 private:
     void close(const std::string& reason, proto::CloseCode why);
     void send_hello();
-    void on_disconnected();
-    /// Closes with the server's Goodbye if one came, else "disconnected".
+    /// `code`: what the disconnect carried (net::Event::close_code).
+    void on_disconnected(std::uint16_t code);
+    /// Closes with the server's Goodbye if one came, else with the pre-Hello
+    /// cap's refusal if that ended the last attempt, else "disconnected".
     void close_on_drop();
+    /// Closes once the retry window `window_s` is over.
+    void give_up(bool rejoin, double window_s);
+    /// The pause before the next attempt: reconnect_retry_s; after refusals
+    /// by the pre-Hello cap, doubled for each further one in a row (up to 4
+    /// times it) and spread at random over 0.5 to 1.5 times that, so that
+    /// clients refused together do not come back together.
+    std::uint64_t retry_delay_us();
     bool may_reconnect() const;
     bool may_rejoin() const;
     /// Replaces the dead connection with a new one.
@@ -120,6 +130,12 @@ private:
     int slot_ = -1;  // of the Welcome: the car a reconnect takes back
     std::vector<std::uint8_t> reconnect_token_;
     std::optional<proto::Goodbye> goodbye_;  // the server's, until the disconnect
+    /// Attempts in a row the server's pre-Hello cap refused (net::
+    /// kPreHelloRefusal): the last one ended so when > 0.
+    int cap_refusals_ = 0;
+    /// The connection now came up (its ENet `connected` event).
+    bool up_ = false;
+    std::minstd_rand jitter_{std::random_device{}()};
     std::string close_reason_;
     std::uint16_t close_code_ = 0;
 };

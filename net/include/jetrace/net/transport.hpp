@@ -30,7 +30,18 @@ struct Event {
     PeerId peer = 0;
     Channel channel = Channel::unreliable;
     std::vector<std::uint8_t> data;
+    /// disconnected: the number the peer's disconnect carried (ENet's
+    /// disconnect data), such as kPreHelloRefusal; 0: none (a plain close,
+    /// a timeout, a connection attempt nobody answered) or a value over
+    /// 0xFFFF.
+    std::uint16_t close_code = 0;
 };
+
+/// The close code a server's pre-Hello cap answers a connection request
+/// with (ServerConfig::max_pending_per_address): proto::CloseCode::
+/// refused_pre_hello_cap, which the client sees as the close_code of its
+/// `disconnected` event.
+inline constexpr std::uint16_t kPreHelloRefusal = 2008;
 
 struct PeerStats {
     /// Smoothed round-trip time (unit: ms).
@@ -45,8 +56,8 @@ struct Totals {
     std::uint64_t bytes_received = 0;
     std::uint64_t packets_sent = 0;
     std::uint64_t packets_received = 0;
-    /// Connection requests (ENet CONNECT datagrams, a client's retries
-    /// included) dropped because their IP address already held
+    /// Connection requests (datagrams addressed to no peer, a client's
+    /// retries included) dropped because their IP address already held
     /// ServerConfig::max_pending_per_address connections without a Hello.
     std::uint64_t connects_refused = 0;
 };
@@ -85,8 +96,10 @@ struct ServerConfig {
     std::uint32_t timeout_ms = 5000;
     /// Most connections one IP address may hold before the server admits
     /// them (Transport::admit, on a Hello it accepts), handshakes in progress
-    /// included; a connection request beyond it is dropped before ENet gives
-    /// it a slot, and the client's ENet retries it. 0: no cap (unit: connections).
+    /// included; a connection request beyond it gets no slot: it is answered
+    /// with an ENet disconnect carrying kPreHelloRefusal (a datagram smaller
+    /// than the request), so the client's attempt ends at once with that
+    /// close_code. 0: no cap (unit: connections).
     std::size_t max_pending_per_address = 0;
 };
 

@@ -47,6 +47,12 @@ enum class CloseCode : std::uint16_t {
     refused_unallocated = 2006,
     /// Every observer place is taken (--max-observers).
     refused_observers_full = 2007,
+    /// The connection request itself: the client's IP address already holds
+    /// the server's --pre-hello-limit connections waiting for their Hello.
+    /// Not in a Refuse: the data of an ENet disconnect that answers the
+    /// request (net::Event::close_code). Nothing was admitted: the client
+    /// may try again once one of its address's connections is through.
+    refused_pre_hello_cap = 2008,
 
     // 4000-4999: the peer broke the protocol or went quiet.
     /// No Hello within the hello timeout: nothing was admitted, the client
