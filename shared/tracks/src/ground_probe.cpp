@@ -1,5 +1,7 @@
 #include "ground_probe.hpp"
 
+#include "track_raycast.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -10,30 +12,10 @@ namespace {
 // Half the width of a vertical probe's box (unit: m): the grid is asked for
 // the triangles of a thin column around the line.
 constexpr double kColumnHalf_m = 1e-3;
-// Edge tolerance of the ray test (barycentric units), as in track_raycast.cpp:
-// shared edges leave no crack.
-constexpr double kEdge = 1e-9;
 
 // Twice the signed area of (a, b, p) in the ground plan (x, z).
 double cross_xz(const Vec3& a, const Vec3& b, double x, double z) {
     return (b.x() - a.x()) * (z - a.z()) - (b.z() - a.z()) * (x - a.x());
-}
-
-// Moeller-Trumbore: the ray's parameter at the triangle, or false.
-bool ray_triangle(const Triangle& tri, const Vec3& o, const Vec3& d, double& t) {
-    const Vec3 e1 = tri.b - tri.a, e2 = tri.c - tri.a;
-    const Vec3 p = d.cross(e2);
-    const double det = e1.dot(p);
-    if (!(det * det > 1e-24 * e1.squaredNorm() * e2.squaredNorm())) return false;  // parallel
-    const double inv = 1.0 / det;
-    const Vec3 sv = o - tri.a;
-    const double u = sv.dot(p) * inv;
-    if (u < -kEdge || u > 1.0 + kEdge) return false;
-    const Vec3 q = sv.cross(e1);
-    const double v = d.dot(q) * inv;
-    if (v < -kEdge || u + v > 1.0 + kEdge) return false;
-    t = e2.dot(q) * inv;
-    return true;
 }
 
 }  // namespace

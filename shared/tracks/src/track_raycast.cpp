@@ -11,25 +11,30 @@ bool raycast(const std::vector<Triangle>& tris, const Vec3& o, const Vec3& d, do
     return true;
 }
 
+bool ray_triangle(const Triangle& tri, const Vec3& o, const Vec3& d, double& t) {
+    constexpr double kEdge = 1e-9;
+    const Vec3 e1 = tri.b - tri.a, e2 = tri.c - tri.a;
+    const Vec3 p = d.cross(e2);
+    const double det = e1.dot(p);
+    if (!(det * det > 1e-24 * e1.squaredNorm() * e2.squaredNorm())) return false;  // parallel
+    const double inv = 1.0 / det;
+    const Vec3 sv = o - tri.a;
+    const double u = sv.dot(p) * inv;
+    if (u < -kEdge || u > 1.0 + kEdge) return false;
+    const Vec3 q = sv.cross(e1);
+    const double v = d.dot(q) * inv;
+    if (v < -kEdge || u + v > 1.0 + kEdge) return false;
+    t = e2.dot(q) * inv;
+    return true;
+}
+
 bool raycast_index(const std::vector<Triangle>& tris, const Vec3& o, const Vec3& d, double& best_t,
                    std::size_t& best_index) {
-    constexpr double kEdge = 1e-9;
     bool found = false;
     for (std::size_t i = 0; i < tris.size(); ++i) {
         const Triangle& tri = tris[i];
-        if (tri.degenerate) continue;
-        const Vec3 e1 = tri.b - tri.a, e2 = tri.c - tri.a;
-        const Vec3 p = d.cross(e2);
-        const double det = e1.dot(p);
-        if (!(det * det > 1e-24 * e1.squaredNorm() * e2.squaredNorm())) continue;  // parallel
-        const double inv = 1.0 / det;
-        const Vec3 sv = o - tri.a;
-        const double u = sv.dot(p) * inv;
-        if (u < -kEdge || u > 1.0 + kEdge) continue;
-        const Vec3 q = sv.cross(e1);
-        const double v = d.dot(q) * inv;
-        if (v < -kEdge || u + v > 1.0 + kEdge) continue;
-        const double t = e2.dot(q) * inv;
+        double t = 0;
+        if (tri.degenerate || !ray_triangle(tri, o, d, t)) continue;
         if (t < -1e-9 || (found && t >= best_t)) continue;
         found = true;
         best_t = t;

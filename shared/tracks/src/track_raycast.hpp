@@ -11,6 +11,11 @@ namespace jetrace::detail {
 /// Default car radius + the resting gap, as in builtin_tracks.cpp (unit: m).
 inline constexpr double kRest_m = 2.5 + 1.0 / 1024.0;
 
+/// Where the line o + t d meets triangle `tri` (Moeller-Trumbore, edges
+/// inclusive so shared edges leave no crack): false if it is parallel to the
+/// triangle or passes outside it, else its parameter `t` (of any sign).
+bool ray_triangle(const Triangle& tri, const Vec3& o, const Vec3& d, double& t);
+
 /// Nearest hit (t >= 0) of the ray o + t d on non-degenerate triangles
 /// (Moeller-Trumbore, edges inclusive so shared edges leave no crack).
 bool raycast(const std::vector<Triangle>& tris, const Vec3& o, const Vec3& d, double& best_t, Vec3& best_n);
