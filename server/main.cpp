@@ -48,6 +48,8 @@ struct Losses {
 /// What the server is hosted with: its socket, and the optional ops parts.
 struct Host {
     std::unique_ptr<net::Transport> transport;
+    /// --web: the WebSocket transport inside `transport`.
+    const net::Transport* web = nullptr;
     std::unique_ptr<ops::Metrics> metrics;
     std::unique_ptr<ops::AgonesClient> agones;
     /// --record: the replay of each race.
@@ -136,6 +138,10 @@ bool open_host(const server::HostOptions& o, Host& host) {
         return false;
     }
     std::printf("listening on %s:%u\n", o.net_cfg.bind.c_str(), host.transport->local_port());
+    if (o.web) {
+        host.transport = server::open_web(*o.web, std::move(host.transport), host.web);
+        if (!host.transport) return false;
+    }
     if (!o.hosting.metrics_host.empty()) {
         host.metrics = ops::Metrics::serve(o.hosting.metrics_host, o.hosting.metrics_port, error);
         if (!host.metrics) {

@@ -140,6 +140,8 @@ int parse_host_options(int argc, char** argv, HostOptions& o) {
     add_file_options(app, o);
     HostingFlags hosting;
     add_hosting_options(app, hosting);
+    WebFlags web;
+    add_web_options(app, web);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -167,6 +169,7 @@ int parse_host_options(int argc, char** argv, HostOptions& o) {
     }
     jetrace::cli::log_to_stderr("server", o.log_level);
     if (!apply_hosting(hosting, o.hosting)) return 2;
+    if (!apply_web(web, o.net_cfg.max_pending_per_address, o.web)) return 2;
     return -1;
 }
 

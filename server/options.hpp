@@ -2,6 +2,7 @@
 #pragma once
 
 #include "hosting.hpp"
+#include "web_host.hpp"
 #include "jetrace/net/transport.hpp"
 #include "jetrace/server/race_server.hpp"
 #include "jetrace/server/replay_recorder.hpp"
@@ -32,6 +33,8 @@ struct HostOptions {
     std::string nonce_file;
     /// --metrics and Agones.
     Hosting hosting;
+    /// --web: the game page and browser players (none: ENet only).
+    std::optional<web::WebConfig> web;
 };
 
 /// Parses the command line. -1: go on; else the exit code (0 for --help).

@@ -17,6 +17,8 @@ SERVER_PACKAGES=(
   libenet-dev libeigen3-dev libflatbuffers-dev flatbuffers-compiler
   libcli11-dev libspdlog-dev nlohmann-json3-dev libtinyobjloader-dev libtinygltf-dev libsodium-dev
   libcpp-httplib-dev prometheus-cpp-dev
+  # --web: Boost.Beast (header-only) for the game page and browser players' WebSocket
+  libboost-dev
 )
 
 PACKAGES=(

@@ -155,6 +155,7 @@ void RaceClient::on_snapshot(const proto::Snapshot& s) {
         return link_.start_racing();
     }
     if (!have_world_) return start_world();
+    measure_round_trip(s);
     // Reconciled once the update's events are handled, with the newest of
     // them (a backlog of snapshots costs one replay, not one each).
     reconcile_pending_ = true;
@@ -165,6 +166,19 @@ void RaceClient::on_snapshot(const proto::Snapshot& s) {
         s.last_applied_input_tick + 1 < s.server_tick) {
         ++stats_.late_inputs;
     }
+}
+
+void RaceClient::measure_round_trip(const proto::Snapshot& s) {
+    // The client runs `lead` ticks ahead of the server: an input sent at
+    // predicted tick P arrives `lead - margin` ticks later, and a snapshot
+    // of server tick S arrives when the client is at P' = S + down + lead.
+    // So up + down = P' - S - margin.
+    const double ticks = static_cast<double>(predictor_.world().tick) - static_cast<double>(s.server_tick) -
+                         static_cast<double>(s.input_margin_ticks);
+    if (ticks < 0 || s.last_applied_input_tick == proto::kNoTick) return;
+    const double ms = ticks * static_cast<double>(clock_.period_us()) / 1000.0;
+    double& rtt = stats_.tick_round_trip_ms;
+    rtt = rtt == 0 ? ms : rtt + (ms - rtt) / 8.0;
 }
 
 void RaceClient::start_world() {

@@ -1,5 +1,6 @@
 #include "json_parts.hpp"
 
+#include <bit>
 #include <cmath>
 
 namespace jetrace::view::json_parts {
@@ -31,3 +32,24 @@ json car_json(const CarState& c, std::size_t slot) {
 }
 
 }  // namespace jetrace::view::json_parts
+
+namespace jetrace::view {
+
+std::vector<std::uint8_t> track_mesh_bytes(const Track& track) {
+    std::vector<std::uint8_t> out;
+    out.reserve(track.triangles.size() * 36);
+    const auto put = [&out](double v) {
+        const auto bits = std::bit_cast<std::uint32_t>(static_cast<float>(v));
+        for (int i = 0; i < 4; ++i) out.push_back(static_cast<std::uint8_t>(bits >> (8 * i)));
+    };
+    for (const Triangle& t : track.triangles) {
+        for (const Vec3* v : {&t.a, &t.b, &t.c}) {
+            put(v->x());
+            put(v->y());
+            put(v->z());
+        }
+    }
+    return out;
+}
+
+}  // namespace jetrace::view

@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace jetrace::view::json_parts {
 
@@ -33,3 +34,9 @@ json track_json(const Track& t);
 json car_json(const CarState& c, std::size_t slot);
 
 }  // namespace jetrace::view::json_parts
+
+namespace jetrace::view {
+/// The track's triangles for drawing: 9 little-endian float32 per triangle
+/// (a, b, c, each x y z), served as /track.bin.
+std::vector<std::uint8_t> track_mesh_bytes(const Track& track);
+}  // namespace jetrace::view

@@ -10,7 +10,7 @@ namespace {
 
 using namespace json_parts;
 
-std::string name_of(const LiveSession& s, int slot) {
+std::string name_of(const LiveRace& s, int slot) {
     if (slot == s.client().slot()) return s.driver();
     for (const proto::PlayerInfo& p : s.client().players()) {
         if (p.slot == slot && !p.name.empty()) return p.name;
@@ -18,7 +18,7 @@ std::string name_of(const LiveSession& s, int slot) {
     return "car " + std::to_string(slot);
 }
 
-json roster_json(const LiveSession& s) {
+json roster_json(const LiveRace& s) {
     json out = json::array();
     for (const proto::PlayerInfo& p : s.client().players()) {
         out.push_back({{"slot", p.slot}, {"name", name_of(s, p.slot)}});
@@ -29,7 +29,7 @@ json roster_json(const LiveSession& s) {
 /// Every active car of the client's world where the client draws it:
 /// watching, as interpolated; driving, the own car predicted, the others
 /// at the newest snapshot's state drawn where the client interpolates them.
-json cars_json(const LiveSession& s, const WorldState& predicted) {
+json cars_json(const LiveRace& s, const WorldState& predicted) {
     const client::RaceClient& c = s.client();
     const WorldState& server = c.authoritative();
     json out = json::array();
@@ -52,7 +52,7 @@ json cars_json(const LiveSession& s, const WorldState& predicted) {
     return out;
 }
 
-json standings_json(const LiveSession& s, const WorldState& w) {
+json standings_json(const LiveRace& s, const WorldState& w) {
     const client::RaceClient& c = s.client();
     const int rate = c.scene().physics.tick_rate_hz;
     const auto order = standings(c.scene().track, w.cars, w.start_tick, rate);
@@ -72,7 +72,7 @@ json standings_json(const LiveSession& s, const WorldState& w) {
 
 /// Watching: the render tick (fractional) and the snapshot ticks the cars
 /// are interpolated between, for anyone to check them against the race.
-json render_json(const LiveSession& s) {
+json render_json(const LiveRace& s) {
     if (s.driving()) return nullptr;
     std::uint32_t from = 0, to = 0;
     const bool between = s.client().render_span(from, to);
@@ -89,9 +89,23 @@ std::string connection_of(const client::RaceClient& c) {
     }
 }
 
+/// The connection as the driver sees it: the round trip (the transport's,
+/// or measured in ticks where it has none) and the prediction's corrections.
+json net_json(const client::RaceClient& c) {
+    const client::ClientStats& st = c.stats();
+    const double rtt = c.rtt_ms() > 0 ? c.rtt_ms() : st.tick_round_trip_ms;
+    return {{"rtt_ms", rounded(rtt, 0.1)},
+            {"snapshots", st.snapshots},
+            {"corrections", st.corrections},
+            {"corrections_late", st.corrections_late},
+            {"corrections_near_car", st.corrections_near_car},
+            {"late_inputs", st.late_inputs},
+            {"max_correction_m", rounded(st.max_correction_m, 0.001)}};
+}
+
 }  // namespace
 
-std::string live_hello_json(const LiveSession& s) {
+std::string live_hello_json(const LiveRace& s) {
     const client::RaceClient& c = s.client();
     const WorldState w = s.world();
     const json j = {{"type", "hello"},
@@ -111,7 +125,7 @@ std::string live_hello_json(const LiveSession& s) {
     return text_of(j);
 }
 
-std::string live_frame_json(const LiveSession& s) {
+std::string live_frame_json(const LiveRace& s) {
     const client::RaceClient& c = s.client();
     const WorldState w = s.world();
     const int rate = c.scene().physics.tick_rate_hz;
@@ -125,6 +139,7 @@ std::string live_frame_json(const LiveSession& s) {
                     {"laps", w.laps},
                     {"own_slot", c.slot()},
                     {"connection", connection_of(c)},
+                    {"net", net_json(c)},
                     {"playing", true},
                     {"speed", 1},
                     {"render", render_json(s)},

@@ -4,13 +4,13 @@
 // (prediction plus the fading correction), the others interpolated.
 #pragma once
 
-#include "live_session.hpp"
+#include "live_race.hpp"
 
 #include <string>
 
 namespace jetrace::view {
 
-std::string live_hello_json(const LiveSession& s);
-std::string live_frame_json(const LiveSession& s);
+std::string live_hello_json(const LiveRace& s);
+std::string live_frame_json(const LiveRace& s);
 
 }  // namespace jetrace::view

@@ -6,10 +6,7 @@
 // now. live_json.cpp turns it into page messages.
 #pragma once
 
-#include "drive_messages.hpp"
-#include "race_timing.hpp"
-
-#include "jetrace/client/race_client.hpp"
+#include "live_race.hpp"
 
 #include <chrono>
 #include <cstdint>
@@ -31,10 +28,6 @@ struct LiveOptions {
     bool drive = true;
 };
 
-/// The input the keys ask for: full throttle on up, full steer left or
-/// right (both: none), the brake.
-Input input_of(const KeysMessage& k);
-
 class LiveSession {
 public:
     /// Loads the known tracks (the --track file, or the built-in ones);
@@ -51,7 +44,7 @@ public:
     void update();
 
     /// Says goodbye to the server (its car is freed at once).
-    void leave(const std::string& reason) { client_->leave(reason); }
+    void leave(const std::string& reason) { race_->client().leave(reason); }
 
     /// Keys from page `page` (the newest keys from any page count).
     void set_keys(std::uint64_t page, const KeysMessage& k);
@@ -59,27 +52,17 @@ public:
     void release_keys(std::uint64_t page);
 
     bool driving() const { return options_.drive; }
-    /// The world the page is shown (cars, laps, gates, start tick): driving,
-    /// the client's prediction of its own race; watching, every car at the
-    /// render tick, between the two snapshots of RaceClient::render_span().
-    WorldState world() const { return options_.drive ? client_->predicted() : client_->render_world(); }
-    const std::string& driver() const { return options_.client.name; }
-    const client::RaceClient& client() const { return *client_; }
-    const RaceTiming& timing() const { return timing_; }
+    /// The race the pages are shown (after open()).
+    const LiveRace& race() const { return *race_; }
+    const client::RaceClient& client() const { return race_->client(); }
     /// The page's view of time: µs since open().
     std::uint64_t now_us() const;
 
 private:
-    void follow_timing();
-
     LiveOptions options_;
     std::vector<std::unique_ptr<Scene>> scenes_;
-    std::unique_ptr<client::RaceClient> client_;
-    KeysMessage keys_;
+    std::unique_ptr<LiveRace> race_;
     std::uint64_t keys_page_ = 0;
-    RaceTiming timing_;
-    std::uint32_t timing_race_ = 0;
-    std::uint32_t timing_tick_ = proto::kNoTick;
     std::chrono::steady_clock::time_point start_;
     bool closed_logged_ = false;
 };

@@ -4,6 +4,7 @@
 // bit for bit (JSON numbers are doubles in the page too).
 #pragma once
 
+#include "json_parts.hpp"
 #include "playback.hpp"
 
 #include <cstdint>
@@ -16,9 +17,6 @@ namespace jetrace::view {
 std::string hello_json(const Playback& p);
 /// The world at the tick `p` shows, with standings, phase and the ghosts.
 std::string frame_json(const Playback& p);
-/// The track's triangles for drawing: 9 little-endian float32 per triangle
-/// (a, b, c, each x y z), served as /track.bin.
-std::vector<std::uint8_t> track_mesh_bytes(const Track& track);
 /// The race phase at `s`: "countdown", "racing" or "finished".
 std::string phase_of(const ReplayPlayer& r, const WorldState& s);
 

@@ -38,7 +38,7 @@ void WsSession::on_accept(beast::error_code ec) {
     spdlog::info("page {}: connected", id_);
     opened_ = last_advance_ = Clock::now();
     ws_.text(true);
-    send(playback_ ? hello_json(*playback_) : live_hello_json(*ctx_.live), false);
+    send(playback_ ? hello_json(*playback_) : live_hello_json(ctx_.live->race()), false);
     if (playback_) playback_->set_playing(!ctx_.settings.paused);
     send(frame(), true);
     read_next();
@@ -62,7 +62,7 @@ void WsSession::on_read(beast::error_code ec, std::size_t) {
     if (!closing_) read_next();
 }
 
-std::string WsSession::frame() const { return playback_ ? frame_json(*playback_) : live_frame_json(*ctx_.live); }
+std::string WsSession::frame() const { return playback_ ? frame_json(*playback_) : live_frame_json(ctx_.live->race()); }
 
 void WsSession::apply_live(const std::string& text) {
     if (!ctx_.live->driving()) return close(websocket::close_code::policy_error, "a watching page sends nothing");

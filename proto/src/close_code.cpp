@@ -27,6 +27,7 @@ std::string_view close_code_name(std::uint16_t code) {
         case CloseCode::no_hello: return "no_hello";
         case CloseCode::malformed: return "malformed";
         case CloseCode::protocol_violation: return "protocol_violation";
+        case CloseCode::send_queue_full: return "send_queue_full";
     }
     return "";
 }

@@ -1,7 +1,9 @@
-// jetrace viewer page: connects to jetrace-view's WebSocket, draws the
-// world it is sent (docs/VIEWER.md) and sends the user's timeline and
-// camera choices (replay) or the keys (drive). window.jetrace is the test
-// hook.
+// jetrace's page: draws the world its source sends (docs/VIEWER.md) and
+// sends the user's timeline and camera choices (replay) or the keys
+// (drive). The source is jetrace-view's WebSocket, or, on the page
+// jetrace-server --web serves (body data-source="client"), the client
+// library in WebAssembly racing on the server itself (sources.js).
+// window.jetrace is the test hook.
 import * as THREE from 'three';
 import { CSS2DRenderer } from 'three/addons/renderers/CSS2DRenderer.js';
 import { CarObject, carColor, gateObject, trackMesh } from './scene.js';
@@ -9,6 +11,8 @@ import { Cameras } from './cameras.js';
 import { Panels } from './ui.js';
 import { driveKeys } from './keys.js';
 import { FrameStats } from './frame_stats.js';
+import { viewerSource } from './sources.js';
+import { Hud } from './hud.js';
 
 const view = document.getElementById('view');
 const renderer = new THREE.WebGLRenderer({ antialias: true });
@@ -38,14 +42,13 @@ const ghosts = [];         // per ghost replay: Map slot -> CarObject
 let keys = null;           // drive mode: the keyboard
 const stats = new FrameStats();  // off unless a benchmark asks (window.jetrace.measure)
 
-const socket = new WebSocket('ws://' + location.host + '/ws');
-const send = (msg) => { if (socket.readyState === WebSocket.OPEN) socket.send(JSON.stringify(msg)); };
+const hud = new Hud();
+const source = document.body.dataset.source === 'client' ? await hud.join() : viewerSource();
+const send = (msg) => source.send(msg);
 const panels = new Panels(send, (mode, slot) => { chaseSlot = slot; cameras.setMode(mode); redraw(); });
 
 async function loadTrack(h) {
-  const response = await fetch('/track.bin');
-  if (!response.ok) throw new Error('track.bin: HTTP ' + response.status);
-  scene.add(trackMesh(await response.arrayBuffer()));
+  scene.add(trackMesh(await source.trackBytes()));
   h.track.gates.forEach((g, i) => scene.add(gateObject(g, i)));
   cameras.fit(h.track.bounds);
   state.trackLoaded = true;
@@ -73,6 +76,7 @@ function onHello(h) {
     ghosts.push(m);
   });
   chaseSlot = h.cars.length ? h.cars[0].slot : 0;
+  hud.setHello(h);
   if (h.mode === 'drive') {
     keys = driveKeys(send);
     chaseSlot = h.own_slot;
@@ -111,21 +115,26 @@ function onFrame(f) {
   state.frame = f;
   state.frames++;
   panels.setFrame(f, { color: (slot) => '#' + carColor(slot).getHexString() });
+  hud.setFrame(f);
   state.waiters = state.waiters.filter((w) => !w(f));
   redraw();
 }
 
-socket.addEventListener('open', () => { state.connected = true; panels.setConnection(''); });
-socket.addEventListener('close', (e) => {
-  state.connected = false;
-  state.closed = true;
-  panels.setConnection('disconnected (' + e.code + ')');
+source.on({
+  open: () => { state.connected = true; panels.setConnection(''); },
+  close: (text) => {
+    state.connected = false;
+    state.closed = true;
+    state.closeText = text;
+    panels.setConnection(text);
+    hud.setClosed(text);
+  },
+  message: (text) => stats.message(text.length, () => {
+    const msg = JSON.parse(text);
+    if (msg.type === 'hello') onHello(msg);
+    else if (msg.type === 'frame') onFrame(msg);
+  }),
 });
-socket.addEventListener('message', (e) => stats.message(typeof e.data === 'string' ? e.data.length : 0, () => {
-  const msg = JSON.parse(e.data);
-  if (msg.type === 'hello') onHello(msg);
-  else if (msg.type === 'frame') onFrame(msg);
-}));
 
 window.addEventListener('resize', () => {
   camera.aspect = window.innerWidth / window.innerHeight;
@@ -168,6 +177,8 @@ window.jetrace = {
     standings: state.frame ? state.frame.standings : [],
     mode: state.hello ? state.hello.mode : null, ownSlot: state.frame ? state.frame.own_slot : null,
     countdown: state.frame ? state.frame.countdown_s : null, keys: keys ? keys.current() : null,
+    source: source.kind, net: state.frame && state.frame.net ? state.frame.net : null,
+    closeText: state.closeText || null, traffic: source.stats(),
   }),
   // The track's gates as the hello gave them (gates[0] is the start line).
   gates: () => (state.hello ? state.hello.track.gates : []),
@@ -185,5 +196,5 @@ window.jetrace = {
   measure: (on = true) => stats.measure(on),
   frameTimes: () => stats.report(),
   // Sends `text` as it is (tests send malformed messages with it).
-  sendRaw: (text) => socket.send(text),
+  sendRaw: (text) => source.sendRaw(text),
 };

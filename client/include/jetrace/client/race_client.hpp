@@ -69,6 +69,12 @@ struct ClientStats {
     /// Car-steps of replayed ticks taken from the prediction instead (cars
     /// far from the others, with the inputs predicted).
     std::uint64_t reused_car_steps = 0;
+    /// Round trip to the server measured in ticks, for transports that
+    /// report none (a WebSocket): the predicted tick when a snapshot
+    /// arrives, less the snapshot's tick and its input margin, smoothed
+    /// (1/8 per snapshot); within a tick or so of the transport's figure
+    /// (unit: ms; 0: none yet).
+    double tick_round_trip_ms = 0;
 };
 
 /// Gives the input for the client's own car for the next tick.
@@ -178,6 +184,8 @@ private:
     void request_track();
     void on_track_chunk(const proto::TrackChunk& c);
     void on_snapshot(const proto::Snapshot& s);
+    /// Updates ClientStats::tick_round_trip_ms from a new snapshot.
+    void measure_round_trip(const proto::Snapshot& s);
     /// Starts the prediction from the newest snapshot, ahead by the lead.
     void start_world();
     /// Forgets the prediction and snapshots: the next snapshot restarts them.

@@ -62,6 +62,10 @@ enum class CloseCode : std::uint16_t {
     malformed = 4001,
     /// A message out of place (inputs before Hello, a second Hello, ...).
     protocol_violation = 4002,
+    /// The server's send queue to this client overflowed: it reads too
+    /// slowly (a WebSocket whose page stalled). Sent in the WebSocket close
+    /// frame, no Goodbye.
+    send_queue_full = 4003,
 };
 
 /// Ranges of CloseCode (a code this build does not know still falls in one).

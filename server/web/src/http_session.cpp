@@ -1,0 +1,142 @@
+#include "http_session.hpp"
+
+#include "game_socket.hpp"
+
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/websocket.hpp>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <optional>
+
+namespace jetrace::web::detail {
+
+namespace beast = boost::beast;
+namespace http = boost::beast::http;
+using tcp = boost::asio::ip::tcp;
+
+namespace {
+
+constexpr std::uint32_t kMaxRequestHeadBytes = 8 * 1024;
+constexpr std::uint64_t kMaxRequestBodyBytes = 1024;
+constexpr std::string_view kPlayPath = "/play";
+
+using Response = http::response<http::string_body>;
+
+Response plain(http::status status, std::string text) {
+    Response r{status, 11};
+    r.set(http::field::content_type, "text/plain; charset=utf-8");
+    r.body() = std::move(text);
+    return r;
+}
+
+class HttpSession : public std::enable_shared_from_this<HttpSession> {
+public:
+    HttpSession(tcp::socket&& socket, WebState& state)
+        : stream_(std::move(socket)), state_(&state) {
+        beast::error_code ec;
+        const auto ep = stream_.socket().remote_endpoint(ec);
+        if (!ec) address_ = ep.address().to_string();
+    }
+    void run() { read_next(); }
+
+private:
+    void read_next() {
+        parser_.emplace();
+        parser_->header_limit(kMaxRequestHeadBytes);
+        parser_->body_limit(kMaxRequestBodyBytes);
+        stream_.expires_after(std::chrono::seconds(30));
+        http::async_read(stream_, buffer_, *parser_, beast::bind_front_handler(&HttpSession::on_read, shared_from_this()));
+    }
+
+    void on_read(beast::error_code ec, std::size_t) {
+        if (ec == http::error::end_of_stream) return close();
+        if (ec) return;
+        http::request<http::string_body> req = parser_->release();
+        const std::string_view target(req.target().data(), req.target().size());
+        if (target != kPlayPath || !beast::websocket::is_upgrade(req)) return respond(req, answer(req));
+        const std::string_view origin(req[http::field::origin].data(), req[http::field::origin].size());
+        const std::string_view host(req[http::field::host].data(), req[http::field::host].size());
+        if (!origin_allowed(origin, host, state_->config.origins)) {
+            {
+                std::lock_guard lock(state_->mutex);
+                ++state_->stats.origin_refusals;
+            }
+            spdlog::info("web: refused a game socket from {}: Origin {} is not allowed (--web-origin)", address_, origin);
+            return respond(req, plain(http::status::forbidden, "this origin may not open a game socket\n"));
+        }
+        const auto admission = state_->reserve(address_);
+        if (admission != WebState::Admission::open) {
+            Response r = plain(http::status::service_unavailable,
+                               admission == WebState::Admission::full ? "too many game sockets are open\n"
+                                                                      : "too many connections from your address are joining\n");
+            r.set(http::field::retry_after, "1");
+            return respond(req, std::move(r));
+        }
+        stream_.expires_never();
+        std::make_shared<GameSocket>(stream_.release_socket(), *state_, address_)->run(std::move(req));
+    }
+
+    Response answer(const http::request<http::string_body>& req) const {
+        if (req.method() != http::verb::get && req.method() != http::verb::head) {
+            return plain(http::status::method_not_allowed, "only GET and HEAD\n");
+        }
+        std::string_view target(req.target().data(), req.target().size());
+        if (target == kPlayPath) return plain(http::status::bad_request, "a WebSocket upgrade is expected here\n");
+        if (const auto q = target.find('?'); q != std::string_view::npos) target = target.substr(0, q);
+        const auto it = state_->site.find(std::string(target));
+        if (it == state_->site.end()) return plain(http::status::not_found, "not found\n");
+        Response r{http::status::ok, 11};
+        r.set(http::field::content_type, it->second.content_type);
+        r.body() = it->second.bytes;
+        return r;
+    }
+
+    void respond(const http::request<http::string_body>& req, Response res) {
+        auto out = std::make_shared<Response>(std::move(res));
+        out->version(req.version());
+        out->keep_alive(req.keep_alive());
+        out->set(http::field::server, "jetrace-server");
+        out->set(http::field::cache_control, "no-store");
+        out->prepare_payload();
+        if (req.method() == http::verb::head) out->body().clear();
+        http::async_write(stream_, *out, [self = shared_from_this(), out](beast::error_code ec, std::size_t) {
+            if (ec) return;
+            if (!out->keep_alive()) return self->close();
+            self->read_next();
+        });
+    }
+
+    void close() {
+        beast::error_code ec;
+        stream_.socket().shutdown(tcp::socket::shutdown_send, ec);
+    }
+
+    beast::tcp_stream stream_;
+    WebState* state_;
+    std::string address_;
+    beast::flat_buffer buffer_;
+    std::optional<http::request_parser<http::string_body>> parser_;
+};
+
+}  // namespace
+
+void serve_http(tcp::socket&& socket, WebState& state) {
+    std::make_shared<HttpSession>(std::move(socket), state)->run();
+}
+
+bool origin_allowed(std::string_view origin, std::string_view host, const std::vector<std::string>& allowed) {
+    if (origin.empty()) return true;
+    if (!host.empty()) {
+        for (std::string_view scheme : {"http://", "https://"}) {
+            if (origin.size() == scheme.size() + host.size() && origin.substr(0, scheme.size()) == scheme &&
+                origin.substr(scheme.size()) == host) {
+                return true;
+            }
+        }
+    }
+    return std::find(allowed.begin(), allowed.end(), origin) != allowed.end();
+}
+
+}  // namespace jetrace::web::detail

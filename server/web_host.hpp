@@ -1,0 +1,35 @@
+// jetrace-server's web port (--web ADDR:PORT): the game page and the
+// WebSocket transport beside the ENet socket (server/web, docs/BROWSER.md).
+#pragma once
+
+#include "jetrace/net/transport.hpp"
+#include "jetrace/web/web_transport.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace jetrace::server {
+
+struct WebFlags {
+    /// --web ADDR:PORT ("": no web port).
+    std::string web;
+    std::vector<std::string> origins;
+    std::size_t max_sockets = web::WebConfig{}.max_sockets;
+};
+
+void add_web_options(CLI::App& app, WebFlags& f);
+/// Parses the flags into `out` (nullopt: no --web); false after printing
+/// what is wrong. `pending_cap` is the ENet transport's pre-Hello cap.
+bool apply_web(const WebFlags& f, std::size_t pending_cap, std::optional<web::WebConfig>& out);
+
+/// Opens the web port and combines it with `enet`: the server's transport.
+/// Prints where the page is; nullptr after printing why it cannot.
+/// `web_part` is the web transport inside the result (for its counters).
+std::unique_ptr<net::Transport> open_web(const web::WebConfig& config, std::unique_ptr<net::Transport> enet,
+                                         const net::Transport*& web_part);
+
+}  // namespace jetrace::server

@@ -1,0 +1,89 @@
+// Races from the page jetrace-server --web serves, in headless Chromium
+// (see browser_play.sh): the client library in WebAssembly joins over the
+// server's WebSocket, and the test drives it with the keys a player would
+// press (the follow-the-gates helper), until the car finishes. A second
+// page watches (?watch), a third comes when the race is full and must show
+// the refusal's reason.
+// Usage: node browser_play.mjs BASE_URL SHOT.png
+import { check, distinctColours, launchChromium } from './page_checks.mjs';
+import { hold, keysFor } from './drive_keys.mjs';
+
+const [base, shotPath] = process.argv.slice(2);
+const guard = { timeout: 90000 };  // a bound on waiting, not a timed assertion
+
+const state = (page) => page.evaluate(() => window.jetrace.state());
+const own = (s) => s.cars.find((c) => c.slot === s.ownSlot);
+
+async function open(browser, query) {
+  const page = await browser.newPage();
+  page.on('pageerror', (e) => console.log(`page ${query} error: ${e.message}`));
+  await page.goto(base + query, { waitUntil: 'load' });
+  return page;
+}
+
+const browser = await launchChromium();
+try {
+  const opened = Date.now();
+  const driver = await open(browser, '?name=human');
+  await driver.waitForFunction(() => window.jetrace && window.jetrace.state().trackLoaded &&
+    window.jetrace.state().frames > 0, guard);
+  let s = await state(driver);
+  console.log(`page ready (track drawn, first frame) ${Date.now() - opened} ms after opening the URL`);
+  check(s.source === 'client', 'the page runs the WebAssembly client');
+  check(s.mode === 'drive' && s.ownSlot >= 0, `drive mode, the own car's slot ${s.ownSlot}`);
+  const gates = await driver.evaluate(() => window.jetrace.gates());
+  check(gates.length > 1, `the page has the track's gates (${gates.length})`);
+
+  const watcher = await open(browser, '?watch');
+  await watcher.waitForFunction(() => window.jetrace && window.jetrace.state().frames > 0, guard);
+  // The race is full (3 players): a late page is refused and says why.
+  const late = await open(browser, '?name=late');
+  await late.waitForFunction(() => window.jetrace && window.jetrace.state().closed, guard);
+  const l = await state(late);
+  check(/code 2003/.test(l.closeText) && /full/.test(l.closeText), `a late page shows its refusal: "${l.closeText}"`);
+
+  for (let t0 = Date.now(); s.phase !== 'racing' && Date.now() - t0 < guard.timeout;) {
+    await new Promise((r) => setTimeout(r, 50));
+    s = await state(driver);
+  }
+  check(s.phase === 'racing', 'the race started');
+  check(s.cars.length === 3, `the driver's page shows 3 cars (${s.cars.length})`);
+  check(s.standings.some((r) => r.name === 'robot0') && s.standings.some((r) => r.name === 'robot1'),
+    'the standings name both bots');
+
+  const held = new Set();
+  let top = 0, steps = 0;
+  const start = Date.now();
+  while (Date.now() - start < 120000) {
+    s = await state(driver);
+    const car = own(s);
+    if (!car) continue;
+    top = Math.max(top, car.speed);
+    if (s.standings.find((r) => r.slot === s.ownSlot)?.finished) break;
+    await hold(driver, held, keysFor(car, gates));
+    if (++steps % 40 === 0) console.log(`tick ${s.tick} lap ${car.lap} gate ${car.gate} speed ${car.speed} rtt ${s.net.rtt_ms} ms`);
+  }
+  await hold(driver, held, new Set());
+  s = await state(driver);
+  const mine = s.standings.find((r) => r.slot === s.ownSlot);
+  check(top > 20, `the car accelerated with the up key (top speed ${top} m/s)`);
+  check(mine && mine.finished, `the page's car finished the lap (${mine ? mine.finish_s : '?'} s)`);
+  console.log(JSON.stringify(s.net));
+  check(s.net && s.net.corrections === 0,
+    `no corrections on loopback (${s.net ? s.net.corrections : '?'} in ${s.net ? s.net.snapshots : '?'} snapshots)`);
+  check(s.net.rtt_ms > 0 && s.net.rtt_ms < 200, `a round trip is shown (${s.net.rtt_ms} ms)`);
+  const seconds = (Date.now() - opened) / 1000;
+  console.log(JSON.stringify({ figure: 'browser_player_traffic', cars: 3, seconds: Math.round(seconds),
+    ...s.traffic, kbit_s_down: Math.round(s.traffic.bytes_down * 8 / seconds / 100) / 10,
+    kbit_s_up: Math.round(s.traffic.bytes_up * 8 / seconds / 100) / 10 }));
+
+  const w = await state(watcher);
+  check(w.mode === 'live' && w.ownSlot === -1, `the ?watch page watches (mode ${w.mode}, own slot ${w.ownSlot})`);
+  check(w.cars.length === 3, `the ?watch page shows every car (${w.cars.length})`);
+  const png = await driver.screenshot({ path: shotPath });
+  const colours = await distinctColours(driver, png);
+  check(colours > 50, `the 3D view is not blank (${colours} distinct colours)`);
+
+} finally {
+  await browser.close();
+}

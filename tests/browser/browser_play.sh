@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# A player races from a browser with nothing installed (docs/BROWSER.md):
+# jetrace-server --web serves the page and the WebAssembly client, which
+# joins over the server's WebSocket. 2 jetrace-bot drivers and 1 page race
+# one lap of ring; headless Chromium (puppeteer-core, browser_play.mjs)
+# drives the page with keys until it finishes, with no corrections on
+# loopback; a ?watch page shows every car without a slot; a late page is
+# refused (the race is full) and shows the reason. The server's results
+# must list the page's player as finished, and its replay must verify.
+# Usage: browser_play.sh SERVER SIM BOT SOURCE_DIR
+set -euo pipefail
+server="$1" sim="$2" bot="$3" src="$4"
+. "$src/tools/server_port.sh"
+[ -d "$src/node_modules/puppeteer-core" ] || { echo "no puppeteer-core in $src/node_modules: run npm ci there (tools/setup.sh does)"; exit 1; }
+[ -x /usr/bin/chromium ] || { echo "no /usr/bin/chromium: apt-get install chromium (tools/setup.sh does)"; exit 1; }
+out="$(mktemp -d)"
+spid="" bpid=""
+cleanup() {
+  for p in $bpid $spid; do kill "$p" 2>/dev/null || true; wait "$p" 2>/dev/null || true; done
+  rm -rf "$out"
+}
+trap cleanup EXIT
+
+"$server" --bind 127.0.0.1 --port 0 --web 127.0.0.1:0 --track ring --laps 1 --min-players 3 --max-players 3 \
+  --races 1 --lobby-timeout 60 --countdown 5 --finish-window 120 --results "$out/results.json" \
+  --record "$out/race.jtr" >"$out/server.log" 2>&1 &
+spid=$!
+port="$(server_port "$out/server.log")"
+web=""
+for _ in $(seq 1 100); do
+  web="$(sed -n 's/^web on 127.0.0.1:\([0-9]*\) .*/\1/p' "$out/server.log")"
+  [ -n "$web" ] && break
+  sleep 0.1
+done
+[ -n "$web" ] || { echo "the server printed no web port:"; cat "$out/server.log"; exit 1; }
+grep -q "is missing" "$out/server.log" && { echo "the server lacks page files:"; cat "$out/server.log"; exit 1; }
+"$bot" --connect "127.0.0.1:$port" --count 2 --name robot --max-seconds 200 >"$out/bot.json" 2>&1 &
+bpid=$!
+echo "server: ENet port $port, web port $web"
+
+node "$src/tests/browser/browser_play.mjs" "http://127.0.0.1:$web/" "$out/shot.png" ||
+  { echo "--- server log:"; cat "$out/server.log"; exit 1; }
+
+rc=0; timeout 60 tail --pid="$spid" -f /dev/null || rc=$?
+[ "$rc" = 0 ] || { echo "the server did not exit after the race"; cat "$out/server.log"; exit 1; }
+wait "$spid" || true
+spid=""
+cat "$out/server.log"
+python3 - "$out/results.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+names = sorted(s["name"] for s in d["standings"])
+assert names == ["human", "robot0", "robot1"], "three players, the watcher not among them: %r" % names
+human = [s for s in d["standings"] if s["name"] == "human"][0]
+assert human["finished"], "the page's player did not finish: %r" % human
+print("server results: human finished in %s s" % human["time_s"])
+PY
+"$sim" --verify "$out/race.jtr"
