@@ -1,5 +1,7 @@
 #include "socket_transport.hpp"
 
+#include "jetrace/net/ws_frame.hpp"
+
 #include <emscripten.h>
 
 #include <map>
@@ -47,13 +49,15 @@ void SocketTransport::frame(const std::uint8_t* data, std::size_t size) {
     // The server's frames are as untrusted as any datagram: a bad channel
     // byte or an empty message is dropped here, the message itself checked
     // by the client's decoders.
-    if (!open_ || closed_ || size < 2 || data[0] >= net::kChannelCount) return;
+    net::Channel channel{};
+    std::span<const std::uint8_t> message;
+    if (!open_ || closed_ || !net::read_ws_frame({data, size}, channel, message)) return;
     totals_.bytes_received += size;
     ++totals_.packets_received;
     net::Event e;
     e.type = net::Event::Type::received;
-    e.channel = static_cast<net::Channel>(data[0]);
-    e.data.assign(data + 1, data + size);
+    e.channel = channel;
+    e.data.assign(message.begin(), message.end());
     pending_.push_back(std::move(e));
 }
 

@@ -81,6 +81,9 @@ struct LiveRaceOptions {
     std::uint32_t input_delay_ticks = 0;
     /// Last changes to the server's configuration (e.g. a connect key).
     std::function<void(server::ServerConfig&)> tweak;
+    /// Wraps or joins the server's ENet transport (e.g. with a WebSocket
+    /// one: net::combine); null: as is.
+    std::function<std::unique_ptr<net::Transport>(std::unique_ptr<net::Transport>)> server_wrap;
 };
 
 /// A server that waits for the players a test brings (add_bot(), handshake()):
@@ -150,6 +153,8 @@ public:
         if (!server_net_) return;
         port = server_net_->local_port();
         if (o.conditions) server_net_ = net::condition(std::move(server_net_), *o.conditions);
+        if (o.server_wrap) server_net_ = o.server_wrap(std::move(server_net_));
+        if (!server_net_) return;
         server_ = std::make_unique<server::RaceServer>(cfg, *scene_, *server_net_);
         applied_ = std::make_unique<AppliedInputs>(recorder_.get());
         server_->observer = applied_.get();

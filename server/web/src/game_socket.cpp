@@ -1,5 +1,7 @@
 #include "game_socket.hpp"
 
+#include "jetrace/net/ws_frame.hpp"
+
 #include <boost/asio/post.hpp>
 #include <spdlog/spdlog.h>
 
@@ -40,13 +42,14 @@ void GameSocket::on_read(beast::error_code ec, std::size_t) {
     if (ec == websocket::error::message_too_big) return close(kMalformedFrame);
     if (ec) return finish(ec == websocket::error::closed ? ws_.reason().code : 0);
     const auto bytes = in_.data();
-    const auto* p = static_cast<const std::uint8_t*>(bytes.data());
-    const std::size_t n = bytes.size();
-    if (!ws_.got_binary() || n < 2 || p[0] >= net::kChannelCount) {
+    const std::span<const std::uint8_t> frame(static_cast<const std::uint8_t*>(bytes.data()), bytes.size());
+    net::Channel channel{};
+    std::span<const std::uint8_t> message;
+    if (!ws_.got_binary() || !net::read_ws_frame(frame, channel, message)) {
         in_.consume(in_.size());
         return close(kMalformedFrame);
     }
-    state_->received(peer_, static_cast<net::Channel>(p[0]), std::vector<std::uint8_t>(p + 1, p + n));
+    state_->received(peer_, channel, std::vector<std::uint8_t>(message.begin(), message.end()));
     in_.consume(in_.size());
     if (!closing_) read_next();
 }
@@ -59,9 +62,7 @@ bool GameSocket::queue(net::Channel channel, std::span<const std::uint8_t> data)
         close_after_writes(kSendQueueFull);
         return false;
     }
-    std::string frame(size, '\0');
-    frame[0] = static_cast<char>(channel);
-    std::copy(data.begin(), data.end(), frame.begin() + 1);
+    std::string frame = net::ws_frame(channel, data);
     boost::asio::post(state_->io, [self = shared_from_this(), f = std::move(frame)]() mutable { self->push(std::move(f)); });
     return true;
 }
@@ -101,6 +102,9 @@ void GameSocket::close(std::uint16_t code) {
     if (closing_ || finished_) return;
     closing_ = true;
     close_code_ = code;
+    // The server hears of it now: a peer that reads nothing (a full send
+    // queue) would hold the close handshake until its timeout.
+    report(code);
     // The frame being written stays until its write completes.
     out_.resize(writing_ ? 1 : 0);
     ws_.async_close(websocket::close_reason(code), [self = shared_from_this(), code](beast::error_code) {
@@ -108,11 +112,17 @@ void GameSocket::close(std::uint16_t code) {
     });
 }
 
+void GameSocket::report(std::uint16_t code) {
+    if (reported_) return;
+    reported_ = true;
+    if (open_) state_->closed(*this, code);
+    else state_->abandoned(address_);
+}
+
 void GameSocket::finish(std::uint16_t code) {
     if (finished_) return;
     finished_ = true;
-    if (open_) state_->closed(*this, code != 0 ? code : close_code_);
-    else state_->abandoned(address_);
+    report(code != 0 ? code : close_code_);
     beast::error_code ignored;
     beast::get_lowest_layer(ws_).socket().close(ignored);
 }

@@ -44,6 +44,8 @@ private:
     void on_write(boost::beast::error_code ec, std::size_t bytes);
     void close(std::uint16_t code);
     void finish(std::uint16_t code);
+    /// Tells the server (once) that the socket is closed, with `code`.
+    void report(std::uint16_t code);
 
     boost::beast::websocket::stream<boost::beast::tcp_stream> ws_;
     WebState* state_;
@@ -57,6 +59,7 @@ private:
     bool closing_ = false;
     bool finished_ = false;
     bool open_ = false;
+    bool reported_ = false;
     std::uint16_t close_code_ = 0;
 };
 
