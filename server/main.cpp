@@ -70,6 +70,7 @@ struct Host {
         sample.refused_unallocated = refused_unallocated;
         sample.replay_failures = replay_failures();
         sample.replay_bytes_written = recorder ? recorder->bytes_written() : 0;
+        if (web) sample.web = web::web_stats(*web);
         metrics->publish(sample);
     }
 };

@@ -4,11 +4,11 @@
 // press (the follow-the-gates helper), until the car finishes. A second
 // page watches (?watch), a third comes when the race is full and must show
 // the refusal's reason.
-// Usage: node browser_play.mjs BASE_URL SHOT.png
+// Usage: node browser_play.mjs BASE_URL SHOT.png METRICS_URL
 import { check, distinctColours, launchChromium } from './page_checks.mjs';
 import { hold, keysFor } from './drive_keys.mjs';
 
-const [base, shotPath] = process.argv.slice(2);
+const [base, shotPath, metricsUrl] = process.argv.slice(2);
 const guard = { timeout: 90000 };  // a bound on waiting, not a timed assertion
 
 const state = (page) => page.evaluate(() => window.jetrace.state());
@@ -50,6 +50,10 @@ try {
   check(s.cars.length === 3, `the driver's page shows 3 cars (${s.cars.length})`);
   check(s.standings.some((r) => r.name === 'robot0') && s.standings.some((r) => r.name === 'robot1'),
     'the standings name both bots');
+  const metrics = await (await fetch(metricsUrl)).text();
+  const gauge = (t) => Number((metrics.match(new RegExp(`jetrace_transport_players\\{transport="${t}"\\} (\\S+)`)) || [])[1]);
+  check(gauge('websocket') === 1 && gauge('enet') === 2,
+    `the metrics count 1 player over WebSocket and 2 over ENet (${gauge('websocket')}, ${gauge('enet')})`);
 
   const held = new Set();
   let top = 0, steps = 0;

@@ -5,7 +5,8 @@
 # one lap of ring; headless Chromium (puppeteer-core, browser_play.mjs)
 # drives the page with keys until it finishes, with no corrections on
 # loopback; a ?watch page shows every car without a slot; a late page is
-# refused (the race is full) and shows the reason. The server's results
+# refused (the race is full) and shows the reason; the metrics count the
+# page's player under transport="websocket". The server's results
 # must list the page's player as finished, and its replay must verify.
 # Usage: browser_play.sh SERVER SIM BOT SOURCE_DIR
 set -euo pipefail
@@ -21,7 +22,7 @@ cleanup() {
 }
 trap cleanup EXIT
 
-"$server" --bind 127.0.0.1 --port 0 --web 127.0.0.1:0 --track ring --laps 1 --min-players 3 --max-players 3 \
+"$server" --bind 127.0.0.1 --port 0 --web 127.0.0.1:0 --metrics 127.0.0.1:0 --track ring --laps 1 --min-players 3 --max-players 3 \
   --races 1 --lobby-timeout 60 --countdown 5 --finish-window 120 --results "$out/results.json" \
   --record "$out/race.jtr" >"$out/server.log" 2>&1 &
 spid=$!
@@ -33,12 +34,13 @@ for _ in $(seq 1 100); do
   sleep 0.1
 done
 [ -n "$web" ] || { echo "the server printed no web port:"; cat "$out/server.log"; exit 1; }
+metrics="$(sed -n 's/^metrics on \(.*\)$/\1/p' "$out/server.log")"
 grep -q "is missing" "$out/server.log" && { echo "the server lacks page files:"; cat "$out/server.log"; exit 1; }
 "$bot" --connect "127.0.0.1:$port" --count 2 --name robot --max-seconds 200 >"$out/bot.json" 2>&1 &
 bpid=$!
 echo "server: ENet port $port, web port $web"
 
-node "$src/tests/browser/browser_play.mjs" "http://127.0.0.1:$web/" "$out/shot.png" ||
+node "$src/tests/browser/browser_play.mjs" "http://127.0.0.1:$web/" "$out/shot.png" "http://$metrics/metrics" ||
   { echo "--- server log:"; cat "$out/server.log"; exit 1; }
 
 rc=0; timeout 60 tail --pid="$spid" -f /dev/null || rc=$?

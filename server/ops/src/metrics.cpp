@@ -2,6 +2,8 @@
 // cpp-httplib server of /metrics, /healthz and /status.
 #include "jetrace/ops/metrics.hpp"
 
+#include "jetrace/net/mux_transport.hpp"
+
 #include "jetrace/server/race_server.hpp"
 
 #include <httplib.h>
@@ -68,6 +70,38 @@ struct Metrics::Impl {
                                "Inputs dropped for being too far ahead of the server tick");
     Counter& missing = counter(registry, "jetrace_inputs_missing_total",
                                "Car-ticks stepped with the previous input because the tick's had not arrived");
+    prometheus::Family<Gauge>& players_by_transport = prometheus::BuildGauge()
+                                                          .Name("jetrace_transport_players")
+                                                          .Help("Connected players, by the transport of their connection")
+                                                          .Register(registry);
+    Gauge& players_enet = players_by_transport.Add({{"transport", "enet"}});
+    Gauge& players_websocket = players_by_transport.Add({{"transport", "websocket"}});
+    prometheus::Family<Counter>& transport_bytes_out = prometheus::BuildCounter()
+                                                           .Name("jetrace_transport_bytes_sent_total")
+                                                           .Help("Bytes sent, by transport (ENet datagrams, WebSocket frames)")
+                                                           .Register(registry);
+    prometheus::Family<Counter>& transport_bytes_in = prometheus::BuildCounter()
+                                                          .Name("jetrace_transport_bytes_received_total")
+                                                          .Help("Bytes received, by transport")
+                                                          .Register(registry);
+    Counter& enet_out = transport_bytes_out.Add({{"transport", "enet"}});
+    Counter& websocket_out = transport_bytes_out.Add({{"transport", "websocket"}});
+    Counter& enet_in = transport_bytes_in.Add({{"transport", "enet"}});
+    Counter& websocket_in = transport_bytes_in.Add({{"transport", "websocket"}});
+    Gauge& web_sockets = gauge(registry, "jetrace_websocket_sockets", "Open game WebSockets (--web)");
+    prometheus::Family<Counter>& web_closed = prometheus::BuildCounter()
+                                                  .Name("jetrace_websocket_closed_total")
+                                                  .Help("Game WebSockets the server closed, by reason")
+                                                  .Register(registry);
+    Counter& web_queue_full = web_closed.Add({{"reason", "send_queue_full"}});
+    Counter& web_malformed = web_closed.Add({{"reason", "malformed_frame"}});
+    prometheus::Family<Counter>& web_refused = prometheus::BuildCounter()
+                                                   .Name("jetrace_websocket_refused_total")
+                                                   .Help("WebSocket upgrades refused before a socket opened, by reason")
+                                                   .Register(registry);
+    Counter& web_origin = web_refused.Add({{"reason", "origin"}});
+    Counter& web_full = web_refused.Add({{"reason", "full"}});
+    Counter& web_pre_hello = web_refused.Add({{"reason", "pre_hello_cap"}});
     Counter& replay_bytes = counter(registry, "jetrace_replay_bytes_written_total", "Replay bytes written");
     Counter& write_errors = counter(registry, "jetrace_write_errors_total", "Files that could not be written whole",
                                     {{"file", "replay"}});
@@ -138,14 +172,16 @@ void Metrics::publish(const MetricsSample& s) {
     j["races_finished"] = s.counters.races_finished;
     j["observers"] = s.observers;
     j["players"] = nlohmann::json::array();
-    int connected = 0, spectating = 0, held = 0;
+    int connected = 0, spectating = 0, held = 0, websocket = 0;
     for (const auto& p : s.players) {
         j["players"].push_back({{"slot", p.slot},
                                 {"name", p.name},
                                 {"connected", p.connected},
                                 {"spectating", p.spectating},
                                 {"lap", p.lap},
-                                {"finished", p.finished}});
+                                {"finished", p.finished},
+                                {"transport", p.transport}});
+        websocket += p.connected && p.transport == "websocket" ? 1 : 0;
         connected += p.connected ? 1 : 0;
         spectating += p.connected && p.spectating ? 1 : 0;
         held += p.connected ? 0 : 1;
@@ -156,6 +192,18 @@ void Metrics::publish(const MetricsSample& s) {
     std::lock_guard lock(m.mutex);
     m.status = std::move(status);
     m.players.Set(connected);
+    m.players_enet.Set(connected - websocket);
+    m.players_websocket.Set(websocket);
+    advance(m.enet_out, s.traffic_enet.bytes_sent);
+    advance(m.enet_in, s.traffic_enet.bytes_received);
+    advance(m.websocket_out, s.traffic_websocket.bytes_sent);
+    advance(m.websocket_in, s.traffic_websocket.bytes_received);
+    m.web_sockets.Set(static_cast<double>(s.web.open_sockets));
+    advance(m.web_queue_full, s.web.send_queue_drops);
+    advance(m.web_malformed, s.web.malformed_drops);
+    advance(m.web_origin, s.web.origin_refusals);
+    advance(m.web_full, s.web.full_refusals);
+    advance(m.web_pre_hello, s.web.pre_hello_refusals);
     m.spectators.Set(spectating);
     m.observers.Set(s.observers);
     m.held.Set(held);
@@ -196,6 +244,8 @@ MetricsSample sample_of(const server::RaceServer& server, const net::Transport& 
     s.observers = server.observers();
     s.counters = server.counters();
     s.traffic = transport.totals();
+    s.traffic_enet = net::part_totals(transport, 0);
+    s.traffic_websocket = net::part_totals(transport, 1);
     return s;
 }
 

@@ -77,6 +77,9 @@ struct PlayerStatus {
     /// The car's lap (0 before it first crosses the start line) and finish.
     int lap = 0;
     bool finished = false;
+    /// The transport of its connection: "enet" or "websocket"
+    /// (net::transport_of; a held slot keeps its last one).
+    std::string transport = "enet";
 };
 
 }  // namespace jetrace::server

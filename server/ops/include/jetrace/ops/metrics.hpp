@@ -6,6 +6,7 @@
 #pragma once
 
 #include "jetrace/net/transport.hpp"
+#include "jetrace/web/web_transport.hpp"
 #include "jetrace/server/counters.hpp"
 
 #include <cstdint>
@@ -39,6 +40,11 @@ struct MetricsSample {
     /// Hellos refused because Agones had not allocated the server yet.
     std::uint64_t refused_unallocated = 0;
     net::Totals traffic;
+    /// The traffic of each transport: ENet, and the WebSocket one (zeros
+    /// without --web).
+    net::Totals traffic_enet, traffic_websocket;
+    /// The WebSocket transport's counters (zeros without --web).
+    web::WebStats web;
 };
 
 /// The RaceServer's and the transport's figures now.
