@@ -140,6 +140,9 @@ std::string live_frame_json(const LiveRace& s) {
                     {"own_slot", c.slot()},
                     {"connection", connection_of(c)},
                     {"net", net_json(c)},
+                    {"input", s.driving() ? json{{"throttle", s.input().throttle}, {"steer", s.input().steer},
+                                                 {"brake", s.input().brake}}
+                                          : json(nullptr)},
                     {"playing", true},
                     {"speed", 1},
                     {"render", render_json(s)},

@@ -31,6 +31,8 @@ public:
     void set_keys(const KeysMessage& k) { input_ = input_of(k); }
     /// The input from now on (a gamepad's analog one).
     void set_input(const Input& in) { input_ = in; }
+    /// The input the next ticks are driven with.
+    const Input& input() const { return input_; }
 
     bool driving() const { return drive_; }
     /// The world the page is shown (cars, laps, gates, start tick): driving,

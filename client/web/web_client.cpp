@@ -9,6 +9,9 @@
 #include "live_json.hpp"
 #include "live_race.hpp"
 
+#include "jetrace/replay/scene_for.hpp"
+#include "jetrace/replay/source.hpp"
+#include "jetrace/replay/verify.hpp"
 #include "jetrace/tracks/builtin_tracks.hpp"
 
 #include <emscripten.h>
@@ -159,6 +162,24 @@ EMSCRIPTEN_KEEPALIVE const std::uint8_t* jr_track_mesh(int* size) {
 /// Says goodbye (the page is closing).
 EMSCRIPTEN_KEEPALIVE void jr_leave() {
     if (page().race) page().race->client().leave("page closed");
+}
+
+}  // extern "C"
+
+extern "C" {
+
+/// Benchmarks: verifies the replay in `data` (the same re-simulation as
+/// jetrace-verify FILE natively) and returns {"ok", "state_hash",
+/// "wall_ms", "verdict"} as JSON, timed by the page's clock.
+EMSCRIPTEN_KEEPALIVE const char* jr_bench_verify(const std::uint8_t* data, int size) {
+    namespace replay = jetrace::replay;
+    replay::SpanSource src({data, static_cast<std::size_t>(size > 0 ? size : 0)});
+    const double t0 = emscripten_get_now();
+    const replay::Verdict v = replay::verify(src, replay::scene_for(jetrace::load_builtin), {});
+    const double t1 = emscripten_get_now();
+    page().text = "{\"ok\":" + std::string(v.ok ? "true" : "false") + ",\"state_hash\":\"" + jetrace::hash_hex(v.state_hash) +
+                  "\",\"wall_ms\":" + std::to_string(t1 - t0) + ",\"verdict\":" + replay::to_json(v) + "}";
+    return page().text.c_str();
 }
 
 }  // extern "C"

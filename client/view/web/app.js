@@ -36,7 +36,8 @@ const camera = new THREE.PerspectiveCamera(55, window.innerWidth / window.innerH
 const cameras = new Cameras(camera, renderer.domElement);
 let chaseSlot = 0;
 
-const state = { hello: null, frame: null, frames: 0, connected: false, closed: false, trackLoaded: false, waiters: [] };
+const state = { hello: null, frame: null, frames: 0, connected: false, closed: false, trackLoaded: false, waiters: [],
+  firstDrawMs: null };
 const cars = new Map();    // slot -> CarObject
 const ghosts = [];         // per ghost replay: Map slot -> CarObject
 let keys = null;           // drive mode: the keyboard
@@ -108,7 +109,19 @@ function addNewCars(f) {
   }
 }
 
+// Input to display: armed with the input a key will ask for, it counts the
+// draws from the key's event to the first draw of a frame driven by it.
+let inputProbe = null;
+window.addEventListener('keydown', () => {
+  if (inputProbe && inputProbe.t0 === null) { inputProbe.t0 = performance.now(); inputProbe.draws0 = drawCount; }
+}, true);
+let drawCount = 0;
+
 function onFrame(f) {
+  if (inputProbe && inputProbe.t0 !== null && inputProbe.seen === null && f.input &&
+      f.input.throttle === inputProbe.want.throttle && f.input.steer === inputProbe.want.steer) {
+    inputProbe.seen = { tick: f.tick };
+  }
   if (state.hello.mode !== 'replay') addNewCars(f);
   place(cars, f.cars);
   f.ghosts.forEach((g) => { if (ghosts[g.index]) place(ghosts[g.index], g.cars); });
@@ -156,6 +169,12 @@ renderer.setAnimationLoop(() => {
     renderer.render(scene, camera);
     labels.render(scene, camera);
   });
+  drawCount++;
+  if (state.trackLoaded && state.firstDrawMs === null) state.firstDrawMs = performance.now();
+  if (inputProbe && inputProbe.seen && !inputProbe.done) {
+    inputProbe.done = true;
+    inputProbe.resolve({ draws: drawCount - inputProbe.draws0, ms: performance.now() - inputProbe.t0 });
+  }
 });
 
 function shown(objects) {
@@ -179,6 +198,8 @@ window.jetrace = {
     countdown: state.frame ? state.frame.countdown_s : null, keys: keys ? keys.current() : null,
     source: source.kind, net: state.frame && state.frame.net ? state.frame.net : null,
     closeText: state.closeText || null, traffic: source.stats(),
+    // ms from navigation start to the first draw of the track with a frame.
+    firstDrawMs: state.firstDrawMs,
   }),
   // The track's gates as the hello gave them (gates[0] is the start line).
   gates: () => (state.hello ? state.hello.track.gates : []),
@@ -195,6 +216,15 @@ window.jetrace = {
   // returns {measuring, elapsed_ms, draws, messages, message_bytes, render_ms, interval_ms, message_ms}.
   measure: (on = true) => stats.measure(on),
   frameTimes: () => stats.report(),
+  // Input to display: armInput(want) before a key is pressed, then
+  // inputResult() resolves with the draws and ms from the key's event to the
+  // first draw of a frame whose own input is `want` ({throttle, steer}).
+  armInput: (want) => {
+    let resolve = null;
+    const result = new Promise((r) => { resolve = r; });
+    inputProbe = { want, t0: null, draws0: 0, seen: null, done: false, resolve, result };
+  },
+  inputResult: () => (inputProbe ? inputProbe.result : null),
   // Sends `text` as it is (tests send malformed messages with it).
   sendRaw: (text) => source.sendRaw(text),
 };

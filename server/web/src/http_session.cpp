@@ -89,7 +89,14 @@ private:
         if (it == state_->site.end()) return plain(http::status::not_found, "not found\n");
         Response r{http::status::ok, 11};
         r.set(http::field::content_type, it->second.content_type);
-        r.body() = it->second.bytes;
+        r.set(http::field::vary, "Accept-Encoding");
+        const std::string_view accept(req[http::field::accept_encoding].data(), req[http::field::accept_encoding].size());
+        if (!it->second.gzipped.empty() && accept.find("gzip") != std::string_view::npos) {
+            r.set(http::field::content_encoding, "gzip");
+            r.body() = it->second.gzipped;
+        } else {
+            r.body() = it->second.bytes;
+        }
         return r;
     }
 

@@ -1,5 +1,7 @@
 #include "jetrace/web/web_site.hpp"
 
+#include <zlib.h>
+
 #include <fstream>
 #include <sstream>
 #include <string_view>
@@ -61,6 +63,23 @@ void replace_once(std::string& text, std::string_view from, std::string_view to)
     if (const auto at = text.find(from); at != std::string::npos) text.replace(at, from.size(), to);
 }
 
+/// `bytes` gzip-compressed (zlib, level 9), or "" if that does not save a
+/// tenth (a WebAssembly module compresses well, a small file may not).
+std::string gzip(const std::string& bytes) {
+    z_stream z{};
+    if (deflateInit2(&z, 9, Z_DEFLATED, 15 + 16, 9, Z_DEFAULT_STRATEGY) != Z_OK) return {};
+    std::string out(deflateBound(&z, static_cast<uLong>(bytes.size())) + 32, '\0');
+    z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(bytes.data()));
+    z.avail_in = static_cast<uInt>(bytes.size());
+    z.next_out = reinterpret_cast<Bytef*>(out.data());
+    z.avail_out = static_cast<uInt>(out.size());
+    const int rc = deflate(&z, Z_FINISH);
+    out.resize(z.total_out);
+    deflateEnd(&z);
+    if (rc != Z_STREAM_END || out.size() * 10 > bytes.size() * 9) return {};
+    return out;
+}
+
 }  // namespace
 
 WebSite load_site(const SiteDirs& dirs, std::vector<std::string>& missing) {
@@ -77,6 +96,7 @@ WebSite load_site(const SiteDirs& dirs, std::vector<std::string>& missing) {
         // The same page as jetrace-view's, its race coming from the client
         // library in WebAssembly instead of jetrace-view's socket.
         if (std::string_view(e.request) == "/") replace_once(f.bytes, "data-source=\"viewer\"", "data-source=\"client\"");
+        f.gzipped = gzip(f.bytes);
         site.emplace(e.request, std::move(f));
     }
     return site;

@@ -25,6 +25,9 @@ namespace jetrace::web {
 struct WebFile {
     std::string content_type;
     std::string bytes;
+    /// The same bytes gzip-compressed, served to a request that accepts
+    /// gzip ("": served as they are).
+    std::string gzipped;
 };
 /// Request path ("/", "/app.js", "/three/build/three.module.js") to file.
 using WebSite = std::map<std::string, WebFile>;
