@@ -54,9 +54,11 @@ cmake --build "$asan" -j "$(nproc)"
 # are slow enough that two at once can fall behind, so the net tests run one
 # at a time there.
 # Tests labelled realtime (processes keeping pace with a faster-than-real-time
-# clock through the proxy, and the soak's memory check) and bench (the
-# regression guard's smoke run) run in the build above only.
-ctest --test-dir "$asan" --output-on-failure -j "$(nproc)" -LE "net|realtime|bench" "${labels[@]}"
+# clock through the proxy, and the soak's memory check), bench (the
+# regression guard's smoke run) and browser (headless Chromium against the
+# release binaries; the WebSocket transport's hostile sockets run here in
+# test_web_transport, labelled net) run in the build above only.
+ctest --test-dir "$asan" --output-on-failure -j "$(nproc)" -LE "net|realtime|bench|browser" "${labels[@]}"
 # Tests labelled hosting (the release binaries' files, exit codes, lobby and
 # drain controls, Agones, Prometheus) run in the build above only: the
 # in-process suites drive the same server code here.

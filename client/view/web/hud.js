@@ -5,10 +5,35 @@
 // fragment: never sent to a server) joins a private race.
 const $ = (id) => document.getElementById(id);
 
+// A connect token as jetrace-token prints it (unpadded URL-safe base64):
+// its bytes in hex and the name it was issued to (docs/PROTOCOL.md,
+// "Connect tokens": version, name length, name, ...); null if it is not one.
+export function readToken(text) {
+  if (!/^[A-Za-z0-9_-]{1,250}$/.test(text)) return null;
+  let bytes;
+  try {
+    const b64 = text.replace(/-/g, '+').replace(/_/g, '/');
+    bytes = Uint8Array.from(atob(b64 + '='.repeat((4 - (b64.length % 4)) % 4)), (c) => c.charCodeAt(0));
+  } catch {
+    return null;
+  }
+  if (bytes.length < 3 || bytes[0] !== 1 || bytes[1] > 32 || bytes.length < 2 + bytes[1]) return null;
+  const name = new TextDecoder().decode(bytes.subarray(2, 2 + bytes[1]));
+  return { hex: [...bytes].map((x) => x.toString(16).padStart(2, '0')).join(''), name };
+}
+
 function joinOptions() {
   const q = new URLSearchParams(location.search);
   const fragment = new URLSearchParams(location.hash.slice(1));
-  return { name: q.get('name'), watch: q.has('watch'), token: fragment.get('token') || '' };
+  const o = { name: q.get('name'), watch: q.has('watch'), token: '', tokenError: null };
+  const text = fragment.get('token');
+  if (text !== null) {
+    const t = readToken(text);
+    // A private race's player joins under the name the token was issued to.
+    if (t) Object.assign(o, { token: t.hex, name: t.name, watch: false });
+    else o.tokenError = 'the connect token in the URL is not one (jetrace-token issue prints them)';
+  }
+  return o;
 }
 
 export class Hud {
@@ -21,6 +46,10 @@ export class Hud {
   // Resolves with the client source once the player chose a name (or the URL did).
   async join() {
     const o = joinOptions();
+    if (o.tokenError) {
+      this.setClosed(o.tokenError);
+      throw new Error(o.tokenError);
+    }
     if (o.name === null && !o.watch) {
       const form = $('join');
       form.hidden = false;
