@@ -10,7 +10,18 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 . "$root/tools/server_port.sh"
 "$root/tools/setup.sh"
-"$root/tools/build.sh" >/dev/null
+# The build's progress, in tenths (a fresh build takes about 20 minutes on 2
+# cores): ninja's [N/M] lines thinned out, and any error in full.
+echo "race: building into build/ (and the browser client into build-wasm/)"
+"$root/tools/build.sh" 2>&1 | awk '
+  /^\[[0-9]+\/[0-9]+\]/ {
+    step = $1; gsub(/[][]/, "", step); split(step, a, "/"); p = int(100 * a[1] / a[2])
+    if (p < last) last = -10
+    if (p >= last + 10 || a[1] == a[2]) { printf "race: build %d%% (%s steps)\n", p, a[2]; last = p; fflush() }
+    next
+  }
+  /^build: / { print "race: " substr($0, 8); fflush(); next }
+  /error|Error|FAILED|warning:/ { print; fflush() }'
 
 track="${JETRACE_TRACK:-stadium}"
 laps="${JETRACE_LAPS:-3}"
