@@ -23,12 +23,15 @@ void add_web_options(CLI::App& app, WebFlags& f) {
                    "an origin (http[s]://HOST[:PORT]) whose pages may join besides the server's own page; repeatable");
     app.add_option("--web-max-sockets", f.max_sockets, "most browser game sockets open at once")
         ->check(CLI::Range(1, 100000));
+    app.add_option("--web-cert", f.cert_file, "serve --web over TLS (HTTPS, WSS) with this PEM certificate chain")
+        ->check(CLI::ExistingFile);
+    app.add_option("--web-key", f.key_file, "the PEM private key of --web-cert")->check(CLI::ExistingFile);
 }
 
 bool apply_web(const WebFlags& f, std::size_t pending_cap, std::optional<web::WebConfig>& out) {
     if (f.web.empty()) {
-        if (!f.origins.empty()) {
-            std::fprintf(stderr, "jetrace-server: --web-origin needs --web\n");
+        if (!f.origins.empty() || !f.cert_file.empty() || !f.key_file.empty()) {
+            std::fprintf(stderr, "jetrace-server: --web-origin, --web-cert and --web-key need --web\n");
             return false;
         }
         return true;
@@ -44,6 +47,8 @@ bool apply_web(const WebFlags& f, std::size_t pending_cap, std::optional<web::We
     c.origins = f.origins;
     c.max_sockets = f.max_sockets;
     c.max_pending_per_address = pending_cap;
+    c.cert_file = f.cert_file;
+    c.key_file = f.key_file;
     if (error = web::validate(c); !error.empty()) {
         std::fprintf(stderr, "jetrace-server: %s\n", error.c_str());
         return false;
@@ -68,8 +73,9 @@ std::unique_ptr<net::Transport> open_web(const web::WebConfig& config, std::uniq
         return nullptr;
     }
     web_part = web.get();
-    std::printf("web on %s:%u (open http://%s:%u/ to race from a browser)\n", config.bind.c_str(), port,
-                config.bind == "0.0.0.0" ? "HOST" : config.bind.c_str(), port);
+    std::printf("web on %s:%u (open %s://%s:%u/ to race from a browser)\n", config.bind.c_str(), port,
+                config.cert_file.empty() ? "http" : "https", config.bind == "0.0.0.0" ? "HOST" : config.bind.c_str(),
+                port);
     return net::combine(std::move(enet), std::move(web), web::kWebPeerBase);
 }
 

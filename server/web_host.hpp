@@ -19,6 +19,7 @@ struct WebFlags {
     std::string web;
     std::vector<std::string> origins;
     std::size_t max_sockets = web::WebConfig{}.max_sockets;
+    std::string cert_file, key_file;
 };
 
 void add_web_options(CLI::App& app, WebFlags& f);

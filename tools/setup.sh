@@ -17,8 +17,8 @@ SERVER_PACKAGES=(
   libenet-dev libeigen3-dev libflatbuffers-dev flatbuffers-compiler
   libcli11-dev libspdlog-dev nlohmann-json3-dev libtinyobjloader-dev libtinygltf-dev libsodium-dev
   libcpp-httplib-dev prometheus-cpp-dev
-  # --web: Boost.Beast (header-only) for the game page and browser players' WebSocket, zlib to gzip the page
-  libboost-dev zlib1g-dev
+  # --web: Boost.Beast (header-only) for the game page and browser players' WebSocket, zlib to gzip the page, OpenSSL for --web-cert
+  libboost-dev zlib1g-dev libssl-dev
 )
 
 PACKAGES=(
@@ -40,7 +40,7 @@ PACKAGES=(
   python3 procps
   # the browser viewer (client/view): Boost.Beast for HTTP and WebSocket; headless Chromium and a font
   # for its browser tests (the page's three.js and the tests' puppeteer-core come from npm, below)
-  libboost-dev zlib1g-dev chromium fonts-dejavu-core
+  libboost-dev zlib1g-dev libssl-dev chromium fonts-dejavu-core
 )
 
 NPM=1

@@ -10,11 +10,11 @@ export function check(ok, what) {
 
 // Chromium's start (SwiftShader, a fresh profile) took over puppeteer's
 // default 30 s once on a loaded 2-core machine: it is given longer.
-export function launchChromium() {
+export function launchChromium(extraArgs = []) {
   return puppeteer.launch({
     executablePath: '/usr/bin/chromium',
     headless: true,
-    args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--window-size=1280,720'],
+    args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--window-size=1280,720', ...extraArgs],
     defaultViewport: { width: 1280, height: 720 },
     timeout: 120000,
     protocolTimeout: 120000,

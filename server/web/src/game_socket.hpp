@@ -1,66 +1,56 @@
 // One browser's game WebSocket, on the web transport's I/O thread: reads
-// binary frames (a channel byte and one protocol message) into events, and
-// writes the frames the server queued, in order. A frame that is not
-// binary, is empty, names no channel or exceeds the frame cap closes this
-// socket only, with kMalformedFrame.
+// binary frames (a channel byte and one protocol message,
+// net::read_ws_frame) into events, and writes the frames the server
+// queued, in order. A frame that is not binary, is empty or names no
+// channel closes this socket only, with kMalformedFrame (one over the frame
+// cap: Beast closes it with 1009). Over plain TCP or TLS (--web-cert).
 #pragma once
 
 #include "web_state.hpp"
 
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
-#include <boost/beast/websocket.hpp>
+#include <boost/beast/ssl.hpp>
 
-#include <atomic>
-#include <deque>
 #include <memory>
+#include <span>
 #include <string>
 
 namespace jetrace::web::detail {
 
+using PlainStream = boost::beast::tcp_stream;
+using TlsStream = boost::beast::ssl_stream<boost::beast::tcp_stream>;
+using Request = boost::beast::http::request<boost::beast::http::string_body>;
+
 class GameSocket : public std::enable_shared_from_this<GameSocket> {
 public:
-    GameSocket(boost::asio::ip::tcp::socket&& socket, WebState& state, std::string address);
-    /// Accepts the upgrade `req` asked for, then runs until either side closes.
-    void run(boost::beast::http::request<boost::beast::http::string_body> req);
+    virtual ~GameSocket() = default;
+    GameSocket(const GameSocket&) = delete;
+    GameSocket& operator=(const GameSocket&) = delete;
 
     /// From the server's loop (any thread): queues a frame; false if the
     /// queue would pass its cap (the socket is then closed).
-    bool queue(net::Channel channel, std::span<const std::uint8_t> data);
+    virtual bool queue(net::Channel channel, std::span<const std::uint8_t> data) = 0;
     /// From any thread: closes once the queued frames are written.
-    void close_after_writes(std::uint16_t code);
+    virtual void close_after_writes(std::uint16_t code) = 0;
 
     net::PeerId peer() const { return peer_; }
     void set_peer(net::PeerId p) { peer_ = p; }
     const std::string& address() const { return address_; }
+    /// The server accepted its Hello (under WebState::mutex).
     bool admitted = false;
 
-private:
-    void on_accept(boost::beast::error_code ec);
-    void read_next();
-    void on_read(boost::beast::error_code ec, std::size_t bytes);
-    void push(std::string frame);
-    void write_front();
-    void on_write(boost::beast::error_code ec, std::size_t bytes);
-    void close(std::uint16_t code);
-    void finish(std::uint16_t code);
-    /// Tells the server (once) that the socket is closed, with `code`.
-    void report(std::uint16_t code);
+protected:
+    GameSocket(WebState& state, std::string address) : state_(&state), address_(std::move(address)) {}
 
-    boost::beast::websocket::stream<boost::beast::tcp_stream> ws_;
     WebState* state_;
     std::string address_;
     net::PeerId peer_ = 0;
-    boost::beast::flat_buffer in_;
-    std::deque<std::string> out_;
-    std::atomic<std::size_t> queued_bytes_{0};
-    std::atomic<bool> overflowed_{false};
-    bool writing_ = false;
-    bool closing_ = false;
-    bool finished_ = false;
-    bool open_ = false;
-    bool reported_ = false;
-    std::uint16_t close_code_ = 0;
 };
+
+/// Accepts the upgrade `req` asked for on `stream` (its handshake reserved
+/// with WebState::reserve), then runs the socket until either side closes.
+void open_game_socket(PlainStream&& stream, WebState& state, std::string address, Request req);
+void open_game_socket(TlsStream&& stream, WebState& state, std::string address, Request req);
 
 }  // namespace jetrace::web::detail

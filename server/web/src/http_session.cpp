@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <type_traits>
 
 namespace jetrace::web::detail {
 
@@ -31,23 +32,40 @@ Response plain(http::status status, std::string text) {
     return r;
 }
 
-class HttpSession : public std::enable_shared_from_this<HttpSession> {
+// PlainStream (HTTP) or TlsStream (HTTPS: the TLS handshake first).
+template <class Stream>
+class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
 public:
-    HttpSession(tcp::socket&& socket, WebState& state)
-        : stream_(std::move(socket)), state_(&state) {
+    HttpSession(tcp::socket&& socket, WebState& state) : stream_(make_stream(std::move(socket), state)), state_(&state) {
         beast::error_code ec;
-        const auto ep = stream_.socket().remote_endpoint(ec);
+        const auto ep = beast::get_lowest_layer(stream_).socket().remote_endpoint(ec);
         if (!ec) address_ = ep.address().to_string();
     }
-    void run() { read_next(); }
+    void run() {
+        if constexpr (std::is_same_v<Stream, TlsStream>) {
+            beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(10));
+            stream_.async_handshake(boost::asio::ssl::stream_base::server,
+                                    [self = this->shared_from_this()](beast::error_code ec) {
+                                        if (!ec) self->read_next();
+                                    });
+        } else {
+            read_next();
+        }
+    }
 
 private:
+    static Stream make_stream(tcp::socket&& socket, WebState& state) {
+        if constexpr (std::is_same_v<Stream, TlsStream>) return Stream(std::move(socket), *state.tls);
+        else return Stream(std::move(socket));
+    }
+
     void read_next() {
         parser_.emplace();
         parser_->header_limit(kMaxRequestHeadBytes);
         parser_->body_limit(kMaxRequestBodyBytes);
-        stream_.expires_after(std::chrono::seconds(30));
-        http::async_read(stream_, buffer_, *parser_, beast::bind_front_handler(&HttpSession::on_read, shared_from_this()));
+        beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(30));
+        http::async_read(stream_, buffer_, *parser_,
+                         beast::bind_front_handler(&HttpSession::on_read, this->shared_from_this()));
     }
 
     void on_read(beast::error_code ec, std::size_t) {
@@ -74,8 +92,8 @@ private:
             r.set(http::field::retry_after, "1");
             return respond(req, std::move(r));
         }
-        stream_.expires_never();
-        std::make_shared<GameSocket>(stream_.release_socket(), *state_, address_)->run(std::move(req));
+        beast::get_lowest_layer(stream_).expires_never();
+        open_game_socket(std::move(stream_), *state_, address_, std::move(req));
     }
 
     Response answer(const http::request<http::string_body>& req) const {
@@ -108,7 +126,7 @@ private:
         out->set(http::field::cache_control, "no-store");
         out->prepare_payload();
         if (req.method() == http::verb::head) out->body().clear();
-        http::async_write(stream_, *out, [self = shared_from_this(), out](beast::error_code ec, std::size_t) {
+        http::async_write(stream_, *out, [self = this->shared_from_this(), out](beast::error_code ec, std::size_t) {
             if (ec) return;
             if (!out->keep_alive()) return self->close();
             self->read_next();
@@ -116,11 +134,15 @@ private:
     }
 
     void close() {
-        beast::error_code ec;
-        stream_.socket().shutdown(tcp::socket::shutdown_send, ec);
+        if constexpr (std::is_same_v<Stream, TlsStream>) {
+            stream_.async_shutdown([self = this->shared_from_this()](beast::error_code) {});
+        } else {
+            beast::error_code ec;
+            stream_.socket().shutdown(tcp::socket::shutdown_send, ec);
+        }
     }
 
-    beast::tcp_stream stream_;
+    Stream stream_;
     WebState* state_;
     std::string address_;
     beast::flat_buffer buffer_;
@@ -130,7 +152,8 @@ private:
 }  // namespace
 
 void serve_http(tcp::socket&& socket, WebState& state) {
-    std::make_shared<HttpSession>(std::move(socket), state)->run();
+    if (state.tls) std::make_shared<HttpSession<TlsStream>>(std::move(socket), state)->run();
+    else std::make_shared<HttpSession<PlainStream>>(std::move(socket), state)->run();
 }
 
 bool origin_allowed(std::string_view origin, std::string_view host, const std::vector<std::string>& allowed) {

@@ -7,6 +7,7 @@
 #include "jetrace/web/web_transport.hpp"
 
 #include <boost/asio/io_context.hpp>
+#include <boost/asio/ssl/context.hpp>
 
 #include <map>
 #include <memory>
@@ -25,6 +26,8 @@ struct WebState {
     const WebConfig config;
     const WebSite site;
     boost::asio::io_context io;
+    /// TLS (WebConfig::cert_file): every connection is HTTPS / WSS; null: plain.
+    std::unique_ptr<boost::asio::ssl::context> tls;
 
     std::mutex mutex;
     std::vector<net::Event> events;

@@ -4,6 +4,7 @@
 #include "http_session.hpp"
 
 #include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/ssl/context.hpp>
 #include <spdlog/spdlog.h>
 
 #include <thread>
@@ -116,6 +117,7 @@ std::string validate(const WebConfig& c) {
         return "web: max_queued_bytes must be 65536..67108864";
     }
     if (c.timeout_ms < 500 || c.timeout_ms > 600000) return "web: timeout_ms must be 500..600000";
+    if (c.cert_file.empty() != c.key_file.empty()) return "--web-cert and --web-key go together";
     for (const std::string& o : c.origins) {
         if (o.rfind("http://", 0) != 0 && o.rfind("https://", 0) != 0) {
             return "--web-origin " + o + ": an origin is http://HOST[:PORT] or https://HOST[:PORT]";
@@ -124,10 +126,40 @@ std::string validate(const WebConfig& c) {
     return {};
 }
 
+namespace {
+
+/// The TLS context of --web-cert and --web-key; null and `error` if they
+/// do not load or do not match.
+std::unique_ptr<boost::asio::ssl::context> tls_context(const WebConfig& c, std::string& error) {
+    namespace ssl = boost::asio::ssl;
+    auto ctx = std::make_unique<ssl::context>(ssl::context::tls_server);
+    ctx->set_options(ssl::context::default_workarounds | ssl::context::no_sslv2 | ssl::context::no_sslv3 |
+                     ssl::context::no_tlsv1 | ssl::context::no_tlsv1_1);
+    boost::system::error_code ec;
+    ctx->use_certificate_chain_file(c.cert_file, ec);
+    if (ec) {
+        error = "--web-cert " + c.cert_file + ": " + ec.message();
+        return nullptr;
+    }
+    ctx->use_private_key_file(c.key_file, ssl::context::pem, ec);
+    if (ec) {
+        error = "--web-key " + c.key_file + ": " + ec.message() + " (or it is not the key of --web-cert)";
+        return nullptr;
+    }
+    return ctx;
+}
+
+}  // namespace
+
 std::unique_ptr<net::Transport> listen_web(const WebConfig& config, WebSite site, std::uint16_t& port,
                                            std::string& error) {
     if (error = validate(config); !error.empty()) return nullptr;
-    auto t = std::make_unique<WebTransport>(std::make_unique<WebState>(config, std::move(site)));
+    auto state = std::make_unique<WebState>(config, std::move(site));
+    if (!config.cert_file.empty()) {
+        state->tls = tls_context(config, error);
+        if (!state->tls) return nullptr;
+    }
+    auto t = std::make_unique<WebTransport>(std::move(state));
     if (!t->listen(port, error)) return nullptr;
     return t;
 }

@@ -55,6 +55,10 @@ struct WebConfig {
     /// A socket that sends nothing, not even a pong, this long is closed
     /// (unit: ms).
     std::uint32_t timeout_ms = 5000;
+    /// TLS: a PEM certificate chain and its PEM private key; with them every
+    /// connection is HTTPS and WSS, without them plain HTTP and WS.
+    std::string cert_file;
+    std::string key_file;
 };
 
 /// Validates a WebConfig: "" or what is wrong.
@@ -67,8 +71,8 @@ inline constexpr net::PeerId kWebPeerBase = 0x40000000u;
 inline constexpr std::uint16_t kMalformedFrame = 4001;
 inline constexpr std::uint16_t kSendQueueFull = 4003;
 
-/// A listening web port: nullptr and `error` if it cannot bind; `port`
-/// gets the bound port.
+/// A listening web port: nullptr and `error` if it cannot bind or read
+/// the TLS files; `port` gets the bound port.
 std::unique_ptr<net::Transport> listen_web(const WebConfig& config, WebSite site, std::uint16_t& port,
                                            std::string& error);
 
