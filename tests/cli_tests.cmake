@@ -111,7 +111,14 @@ foreach(spec
     "nan_input_hold|--input-hold;nan|--input-hold: Value nan is not a finite number"
     "long_input_hold|--input-hold;61|--input-hold: Value 61 not in range \\[0, 60\\]"
     "negative_linger|--linger;-1|--linger: Value -1 not in range \\[0, 3600\\]"
-    "scaled_linger|--linger;100;--time-scale;100|--linger 100 times --time-scale 100 is 10000 s")
+    "scaled_linger|--linger;100;--time-scale;100|--linger 100 times --time-scale 100 is 10000 s"
+    "bad_web|--web;nowhere|--web: 'nowhere' is not PORT or ADDR:PORT"
+    "web_origin_without_web|--web-origin;http://x|--web-origin, --web-cert and --web-key need --web"
+    "bad_web_origin|--web;0;--web-origin;x.example|--web-origin x.example: an origin is http://HOST"
+    "web_cert_without_key|--web;0;--web-cert;${CMAKE_CURRENT_SOURCE_DIR}/CMakeLists.txt|--web-cert and --web-key go together"
+    "web_cert_not_pem|--web;0;--web-cert;${CMAKE_CURRENT_SOURCE_DIR}/CMakeLists.txt;--web-key;${CMAKE_CURRENT_SOURCE_DIR}/CMakeLists.txt|--web-cert .*CMakeLists.txt: "
+    "missing_web_key|--web;0;--web-key;/nonexistent/key.pem|--web-key: File does not exist"
+    "zero_web_sockets|--web;0;--web-max-sockets;0|--web-max-sockets: Value 0 not in range")
   string(REPLACE "|" ";" parts "${spec}")
   list(GET parts 0 name)
   list(GET parts -1 message)
