@@ -4,7 +4,8 @@
 // second of a racing page; N pages that hold no keys; a replay verified by
 // the WebAssembly client.
 // Prints one JSON line per figure.
-// Usage: node browser_bench.mjs drive URL | pages URL N MAX_SECONDS | verify URL REPLAY ROUNDS
+// Usage: node browser_bench.mjs drive URL | pages URL N MAX_SECONDS | verify URL REPLAY ROUNDS JETRACE_VERIFY
+import { execFileSync } from 'node:child_process';
 import { readFileSync } from 'node:fs';
 import { launchChromium } from '../tests/browser/page_checks.mjs';
 import { hold, keysFor } from '../tests/browser/drive_keys.mjs';
@@ -86,38 +87,52 @@ async function pages(browser, n, seconds) {
   for (const p of list) await p.waitForFunction(() => window.jetrace && window.jetrace.state().frames > 0, guard);
   // Until the race is over (every page closed by the server) or `seconds`.
   for (const t0 = Date.now(); Date.now() - t0 < seconds * 1000;) {
-    const closed = await Promise.all(list.map((p) => p.evaluate(() => window.jetrace.state().closed)));
+    // A page that is gone counts as closed.
+    const closed = await Promise.all(list.map((p) => p.evaluate(() => window.jetrace.state().closed).catch(() => true)));
     if (closed.every(Boolean)) break;
     await sleep(500);
   }
 }
 
-async function verify(browser, replayPath, rounds) {
+// The replay verified in the page (the WebAssembly client, on the main
+// thread) and by `native` (jetrace-verify FILE), alternately, `rounds`
+// times each after one page round that is reported apart (Chromium's
+// baseline code before its optimised code).
+async function verify(browser, replayPath, rounds, native) {
   const page = await browser.newPage();
   await page.goto(url + '?watch', { waitUntil: 'load' });
   const b64 = readFileSync(replayPath).toString('base64');
-  const runs = await page.evaluate(async (data, n) => {
+  await page.evaluate(async (data) => {
     const create = (await import('/jetrace_web.js')).default;
     const M = await create({ locateFile: (p) => '/' + p });
     const bytes = Uint8Array.from(atob(data), (c) => c.charCodeAt(0));
-    const out = [];
-    for (let i = 0; i < n; i++) {
+    window.benchVerify = () => {
       const p = M._malloc(bytes.length);
       M.HEAPU8.set(bytes, p);
-      out.push(JSON.parse(M.UTF8ToString(M._jr_bench_verify(p, bytes.length))));
+      const r = JSON.parse(M.UTF8ToString(M._jr_bench_verify(p, bytes.length)));
       M._free(p);
-    }
-    return out;
-  }, b64, Number(rounds));
-  console.log(JSON.stringify({ figure: 'browser_wasm_verify', rounds: runs.length, ok: runs.every((r) => r.ok),
-    state_hash: runs[0].state_hash, wall_ms: runs.map((r) => round(r.wall_ms)) }));
+      return r;
+    };
+  }, b64);
+  const first = await page.evaluate(() => window.benchVerify());
+  const wasm = [], nat = [];
+  for (let i = 0; i < Number(rounds); i++) {
+    nat.push(JSON.parse(execFileSync(native, [replayPath]).toString()).wall_ms);
+    const r = await page.evaluate(() => window.benchVerify());
+    if (!r.ok || r.state_hash !== first.state_hash) throw new Error('the page did not verify the replay');
+    wasm.push(r.wall_ms);
+  }
+  const w = median(wasm), n = median(nat);
+  console.log(JSON.stringify({ figure: 'browser_wasm_verify', ok: first.ok, state_hash: first.state_hash,
+    wasm_chromium_first_ms: round(first.wall_ms), wasm_chromium_ms_median: round(w), native_ms_median: round(n),
+    wasm_over_native: round(w / n, 2), rounds: wasm.length }));
 }
 
 const browser = await launchChromium();
 try {
   if (mode === 'drive') await drive(browser);
   else if (mode === 'pages') await pages(browser, Number(a3), Number(a4));
-  else if (mode === 'verify') await verify(browser, a3, a4);
+  else if (mode === 'verify') await verify(browser, a3, a4, process.argv[6]);
   else throw new Error('mode: drive, pages or verify');
 } finally {
   await browser.close();

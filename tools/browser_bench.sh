@@ -40,13 +40,7 @@ start_server() {
   pids+=($!)
   server_pid=$!
   port="$(server_port "$out/$name.log")"
-  web=""
-  for _ in $(seq 1 100); do
-    web="$(sed -n 's/^web on 127.0.0.1:\([0-9]*\) .*/\1/p' "$out/$name.log")"
-    [ -n "$web" ] && return 0
-    sleep 0.1
-  done
-  echo "browser_bench: no web port" >&2; cat "$out/$name.log" >&2; exit 1
+  web="$(web_port "$out/$name.log")"
 }
 wait_server() { timeout 300 tail --pid="$server_pid" -f /dev/null; }
 tick_line() { grep '^{' "$out/$1.log" | tail -n 1; }
@@ -64,27 +58,10 @@ down = statistics.median(b["down_bytes_per_s"] for b in bots) * 8 / 1000
 print(json.dumps({"figure": "native_bot_bandwidth_same_race", "bots": len(bots), "kbit_s_down_median": round(down, 2)}))
 PY
 
-# 2. The replay re-simulated natively and in Chromium.
-native=()
-for _ in $(seq 1 "$rounds"); do
-  native+=("$("$bin/tools/jetrace-verify" "$out/race.jtr" | python3 -c 'import json,sys; print(json.load(sys.stdin)["wall_ms"])')")
-done
+# 2. The replay re-simulated natively and in Chromium, alternately.
 start_server verify --laps 1 --min-players 8 --max-players 8
-wasm_line="$(node "$root/tools/browser_bench.mjs" verify "http://127.0.0.1:$web/" "$out/race.jtr" "$((rounds + 1))")"
+node "$root/tools/browser_bench.mjs" verify "http://127.0.0.1:$web/" "$out/race.jtr" "$rounds" "$bin/tools/jetrace-verify"
 kill "$server_pid" 2>/dev/null || true
-python3 - "$wasm_line" "${native[@]}" <<'PY'
-import json, statistics, sys
-w = json.loads(sys.argv[1])
-native = [float(x) for x in sys.argv[2:]]
-# Chromium compiles WebAssembly twice: fast baseline code first, optimised
-# code later. The first round is reported apart; the median is of the others.
-first, rest = w["wall_ms"][0], w["wall_ms"][1:] or w["wall_ms"]
-wm, nm = statistics.median(rest), statistics.median(native)
-print(json.dumps({"figure": "browser_wasm_verify", "ok": w["ok"], "state_hash": w["state_hash"],
-                  "wasm_chromium_first_ms": round(first, 1), "wasm_chromium_ms_median": round(wm, 1),
-                  "native_ms_median": round(nm, 1), "wasm_over_native": round(wm / nm, 2),
-                  "native_rounds": len(native), "wasm_rounds": len(w["wall_ms"])}))
-PY
 
 # 3. The server's tick: 16 bots, then 8 bots and 8 pages (which hold no keys).
 start_server bots16 --laps 1 --min-players 16 --max-players 16 --finish-window 15
@@ -94,11 +71,13 @@ wait_server
 bots_line="$(tick_line bots16)"
 start_server pages8 --laps 1 --min-players 16 --max-players 16 --finish-window 15
 node "$root/tools/browser_bench.mjs" pages "http://127.0.0.1:$web/" 8 240 &
-pids+=($!)
+pages_pid=$!
+pids+=($pages_pid)
 sleep 2
 "$bin/client/jetrace-bot" --connect "127.0.0.1:$port" --count 8 --max-seconds 240 >"$out/bots8.json" 2>&1 &
 pids+=($!)
 wait_server
+wait "$pages_pid" || true  # its pages close when the server ends the race
 pages_line="$(tick_line pages8)"
 python3 - "$bots_line" "$pages_line" <<'PY'
 import json, sys

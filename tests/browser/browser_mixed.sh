@@ -19,13 +19,7 @@ trap cleanup EXIT
   --record "$out/race.jtr" >"$out/server.log" 2>&1 &
 spid=$!
 port="$(server_port "$out/server.log")"
-web=""
-for _ in $(seq 1 100); do
-  web="$(sed -n 's/^web on 127.0.0.1:\([0-9]*\) .*/\1/p' "$out/server.log")"
-  [ -n "$web" ] && break
-  sleep 0.1
-done
-[ -n "$web" ] || { echo "no web port"; cat "$out/server.log"; exit 1; }
+web="$(web_port "$out/server.log")"
 "$bot" --connect "127.0.0.1:$port" --count 4 --name robot --max-seconds 300 >"$out/bots.json" 2>&1 &
 bpid=$!
 node "$src/tests/browser/browser_mixed.mjs" "http://127.0.0.1:$web/" 4 || { cat "$out/server.log"; exit 1; }

@@ -27,13 +27,7 @@ trap cleanup EXIT
   --record "$out/race.jtr" >"$out/server.log" 2>&1 &
 spid=$!
 port="$(server_port "$out/server.log")"
-web=""
-for _ in $(seq 1 100); do
-  web="$(sed -n 's/^web on 127.0.0.1:\([0-9]*\) .*/\1/p' "$out/server.log")"
-  [ -n "$web" ] && break
-  sleep 0.1
-done
-[ -n "$web" ] || { echo "the server printed no web port:"; cat "$out/server.log"; exit 1; }
+web="$(web_port "$out/server.log")"
 metrics="$(sed -n 's/^metrics on \(.*\)$/\1/p' "$out/server.log")"
 grep -q "is missing" "$out/server.log" && { echo "the server lacks page files:"; cat "$out/server.log"; exit 1; }
 "$bot" --connect "127.0.0.1:$port" --count 2 --name robot --max-seconds 200 >"$out/bot.json" 2>&1 &

@@ -19,13 +19,7 @@ bad="$("$token" issue --key-file "$out/other.key" --name mallory --valid-for 600
   >"$out/server.log" 2>&1 &
 pid=$!
 server_port "$out/server.log" >/dev/null
-web=""
-for _ in $(seq 1 100); do
-  web="$(sed -n 's/^web on 127.0.0.1:\([0-9]*\) .*/\1/p' "$out/server.log")"
-  [ -n "$web" ] && break
-  sleep 0.1
-done
-[ -n "$web" ] || { echo "no web port"; cat "$out/server.log"; exit 1; }
+web="$(web_port "$out/server.log")"
 node "$src/tests/browser/browser_private.mjs" "http://127.0.0.1:$web/" "$good" "$bad" ||
   { cat "$out/server.log"; exit 1; }
 grep -q "refusing client .*not signed with this server's key" "$out/server.log" ||

@@ -17,13 +17,7 @@ spki="$(openssl x509 -in "$out/cert.pem" -pubkey -noout | openssl pkey -pubin -o
   --track ring --min-players 2 >"$out/server.log" 2>&1 &
 pid=$!
 server_port "$out/server.log" >/dev/null
-web=""
-for _ in $(seq 1 100); do
-  web="$(sed -n 's/^web on 127.0.0.1:\([0-9]*\) .*/\1/p' "$out/server.log")"
-  [ -n "$web" ] && break
-  sleep 0.1
-done
-[ -n "$web" ] || { echo "no web port"; cat "$out/server.log"; exit 1; }
+web="$(web_port "$out/server.log")"
 grep -q "open https://" "$out/server.log" || { echo "the server does not say https"; cat "$out/server.log"; exit 1; }
 if curl -s --max-time 5 "http://127.0.0.1:$web/" | grep -q "<html"; then
   echo "plain HTTP got the page from a TLS port"; exit 1
