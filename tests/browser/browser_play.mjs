@@ -4,12 +4,11 @@
 // press (the follow-the-gates helper), until the car finishes. A second
 // page watches (?watch), a third comes when the race is full and must show
 // the refusal's reason.
-// Usage: node browser_play.mjs BASE_URL SHOT.png METRICS_URL SAMPLES.json
-import { writeFileSync } from 'node:fs';
+// Usage: node browser_play.mjs BASE_URL SHOT.png METRICS_URL
 import { check, distinctColours, launchChromium } from './page_checks.mjs';
 import { hold, keysFor } from './drive_keys.mjs';
 
-const [base, shotPath, metricsUrl, samplesPath] = process.argv.slice(2);
+const [base, shotPath, metricsUrl] = process.argv.slice(2);
 const guard = { timeout: 90000 };  // a bound on waiting, not a timed assertion
 
 const state = (page) => page.evaluate(() => window.jetrace.state());
@@ -58,9 +57,6 @@ try {
 
   const held = new Set();
   let top = 0, steps = 0;
-  // Where the page showed its own car at some ticks, to check against the
-  // server's recording re-simulated (browser_play.sh).
-  const samples = [];
   const start = Date.now();
   while (Date.now() - start < 120000) {
     s = await state(driver);
@@ -69,10 +65,7 @@ try {
     top = Math.max(top, car.speed);
     if (s.standings.find((r) => r.slot === s.ownSlot)?.finished) break;
     await hold(driver, held, keysFor(car, gates));
-    if (++steps % 40 === 0) {
-      console.log(`tick ${s.tick} lap ${car.lap} gate ${car.gate} speed ${car.speed} rtt ${s.net.rtt_ms} ms`);
-      if (s.ownP) samples.push({ tick: s.tick, slot: s.ownSlot, p: s.ownP });
-    }
+    if (++steps % 40 === 0) console.log(`tick ${s.tick} lap ${car.lap} gate ${car.gate} speed ${car.speed} rtt ${s.net.rtt_ms} ms`);
   }
   await hold(driver, held, new Set());
   s = await state(driver);
@@ -88,9 +81,6 @@ try {
     `no corrections on loopback but touches (${s.net.corrections} in ${s.net.snapshots} snapshots, ` +
     `${s.net.corrections_near_car} near another car; ${s.net.late_inputs} inputs late)`);
   check(s.net.rtt_ms > 0 && s.net.rtt_ms < 200, `a round trip is shown (${s.net.rtt_ms} ms)`);
-  // With no correction at all, every position the page showed was the
-  // server's: browser_play.sh compares them with the replay.
-  if (s.net.corrections === 0) writeFileSync(samplesPath, JSON.stringify(samples));
   const seconds = (Date.now() - opened) / 1000;
   console.log(JSON.stringify({ figure: 'browser_player_traffic', cars: 3, seconds: Math.round(seconds),
     ...s.traffic, kbit_s_down: Math.round(s.traffic.bytes_down * 8 / seconds / 100) / 10,

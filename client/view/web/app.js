@@ -197,8 +197,6 @@ window.jetrace = {
     mode: state.hello ? state.hello.mode : null, ownSlot: state.frame ? state.frame.own_slot : null,
     countdown: state.frame ? state.frame.countdown_s : null, keys: keys ? keys.current() : null,
     source: source.kind, driver: state.hello ? state.hello.driver : null,
-    // The own car's position as the frame gave it (the core's doubles).
-    ownP: state.frame ? (state.frame.cars.find((c) => c.own) || {}).p || null : null,
     net: state.frame && state.frame.net ? state.frame.net : null,
     closeText: state.closeText || null, traffic: source.stats(),
     // ms from navigation start to the first draw of the track with a frame.
