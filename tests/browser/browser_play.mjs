@@ -73,13 +73,15 @@ try {
   check(top > 20, `the car accelerated with the up key (top speed ${top} m/s)`);
   check(mine && mine.finished, `the page's car finished the lap (${mine ? mine.finish_s : '?'} s)`);
   console.log(JSON.stringify(s.net));
-  // At 0 % loss the prediction is exact but for the other cars' inputs,
-  // which it cannot know: a correction is allowed only with another car
-  // near the page's (a touch). An input that arrives late costs no
-  // correction when the server's held input equals it.
-  check(s.net && s.net.corrections === s.net.corrections_near_car,
-    `no corrections on loopback but touches (${s.net.corrections} in ${s.net.snapshots} snapshots, ` +
-    `${s.net.corrections_near_car} near another car; ${s.net.late_inputs} inputs late)`);
+  // At 0 % loss the prediction is exact but for what it cannot know: the
+  // other cars' inputs (a correction with another car near the page's), and
+  // an input of its own that reached the server after its tick (the worker's
+  // timers stalled by a starved CPU; the server then steps its held input).
+  // Every correction must be one of those, and late inputs rare.
+  const unexplained = s.net.corrections - s.net.corrections_near_car - s.net.corrections_late;
+  check(unexplained === 0 && s.net.late_inputs * 20 < s.net.snapshots,
+    `no corrections on loopback but touches and late inputs (${s.net.corrections} in ${s.net.snapshots} snapshots: ` +
+    `${s.net.corrections_near_car} near another car, ${s.net.corrections_late} late; ${s.net.late_inputs} inputs late)`);
   check(s.net.rtt_ms > 0 && s.net.rtt_ms < 200, `a round trip is shown (${s.net.rtt_ms} ms)`);
   const seconds = (Date.now() - opened) / 1000;
   console.log(JSON.stringify({ figure: 'browser_player_traffic', cars: 3, seconds: Math.round(seconds),
