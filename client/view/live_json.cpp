@@ -100,6 +100,7 @@ json net_json(const client::RaceClient& c) {
             {"corrections_late", st.corrections_late},
             {"corrections_near_car", st.corrections_near_car},
             {"late_inputs", st.late_inputs},
+            {"clock_resyncs", st.clock_resyncs},
             {"max_correction_m", rounded(st.max_correction_m, 0.001)}};
 }
 

@@ -83,7 +83,10 @@ export class Panels {
     }
     const rows = f.standings.map((s) => {
       const tr = document.createElement('tr');
-      const gap = s.finished ? seconds(s.finish_s) : s.pos === 1 ? 'leader' : s.gap_s === null ? '—' : '+' + seconds(s.gap_s);
+      // A gap is negative when this car passed its last gate before the
+      // leader did and the leader is nearer the next one now.
+      const gap = s.finished ? seconds(s.finish_s) : s.pos === 1 ? 'leader' : s.gap_s === null ? '—'
+        : (s.gap_s < 0 ? '−' + seconds(-s.gap_s) : '+' + seconds(s.gap_s));
       const swatch = document.createElement('span');
       swatch.className = 'swatch';
       swatch.style.background = names.color(s.slot);
