@@ -3,7 +3,8 @@
 // page's files (a fixed table held in memory: no path from a request
 // reaches the file system) and upgrades GET /play to a WebSocket that
 // carries the protocol's messages, one per binary frame: a channel byte
-// (0 unreliable, 1 reliable) and the message (docs/PROTOCOL.md, "WebSocket").
+// (0 unreliable, 1 reliable) and the message (docs/PROTOCOL.md, "Transport:
+// WebSocket"; docs/BROWSER.md).
 //
 // The sockets live on one I/O thread of their own; the server's loop only
 // swaps events out in service() and hands frames over in send(), so a slow
