@@ -1,6 +1,5 @@
 #include "jetrace/client/scene_choice.hpp"
 
-
 #include <spdlog/spdlog.h>
 
 #include <algorithm>

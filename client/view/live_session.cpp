@@ -10,7 +10,6 @@ using client::ClientState;
 
 bool LiveSession::load_tracks(const LiveOptions& o, std::string& error) {
     options_ = o;
-    options_.client.observe = !o.drive;
     scenes_.clear();
     return client::load_known_scenes(o.track_spec, scenes_, error);
 }

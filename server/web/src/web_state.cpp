@@ -54,7 +54,6 @@ void WebState::opened(const std::shared_ptr<GameSocket>& s) {
     s->set_peer(peer);
     sockets.emplace(peer, s);
     --handshaking;
-    stats.open_sockets = sockets.size();
     net::Event e;
     e.type = net::Event::Type::connected;
     e.peer = peer;
@@ -68,7 +67,6 @@ void WebState::closed(const GameSocket& s, std::uint16_t close_code) {
     if (!s.admitted) release(pending, s.address());
     if (close_code == kSendQueueFull) ++stats.send_queue_drops;
     if (close_code == kMalformedFrame) ++stats.malformed_drops;
-    stats.open_sockets = sockets.size();
     net::Event e;
     e.type = net::Event::Type::disconnected;
     e.peer = s.peer();

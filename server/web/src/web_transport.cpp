@@ -87,7 +87,9 @@ public:
 
     WebStats stats() const {
         std::lock_guard lock(state_->mutex);
-        return state_->stats;
+        WebStats s = state_->stats;
+        s.open_sockets = state_->sockets.size();
+        return s;
     }
 
 private:
