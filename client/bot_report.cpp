@@ -103,6 +103,9 @@ bool print_bot_line(const client::RaceClient* c, const std::string& name, bool s
     j["corrections_late"] = stats.corrections_late;
     j["corrections_near_car"] = stats.corrections_near_car;
     j["max_correction_m"] = stats.max_correction_m;
+    j["drawn_checked"] = stats.drawn_checked;
+    j["drawn_off"] = stats.drawn_off;
+    j["drawn_off_unexplained"] = stats.drawn_off_unexplained;
     j["snapshots"] = stats.snapshots;
     j["rtt_ms"] = c != nullptr ? c->rtt_ms() : 0.0;
     j["reconnects"] = stats.reconnects;

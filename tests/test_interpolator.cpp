@@ -1,8 +1,10 @@
 // Where the client draws the cars: the others between the two stored
 // snapshots around the render tick, never beyond the newest, and never along
 // the line from where a car was to where it respawned; its own one where it
-// is predicted, a correction fading out, unless the correction is a respawn.
+// is predicted, a correction fading out, unless the correction is a respawn;
+// and the check of where it was drawn against the server's position.
 #include "jetrace/ai/offline_race.hpp"
+#include "jetrace/client/drawn_check.hpp"
 #include "jetrace/client/interpolator.hpp"
 #include "jetrace/client/snapshot_store.hpp"
 #include "jetrace/proto/world_codec.hpp"
@@ -113,6 +115,51 @@ TEST(Interpolator, AnOwnCarsCorrectionFadesButARespawnIsDrawnAtOnce) {
     EXPECT_EQ(interp.own(Vec3(-40, 3, 60)), Vec3(-40, 3, 60));
     interp.tick();
     EXPECT_EQ(interp.own(Vec3(-40, 3, 60)), Vec3(-40, 3, 60));
+}
+
+TEST(Interpolator, AFadedOffsetIsGoneAndTheCarIsDrawnExactlyWherePredicted) {
+    Interpolator interp(2.0, 0.25);
+    interp.correct(Vec3(0, 3, 0), Vec3(0.01, 3, 0), false);  // 1 cm
+    int ticks = 0;
+    while (interp.smoothing() && ticks < 1000) {
+        interp.tick();
+        ++ticks;
+    }
+    // 0.01 * 0.75^n under 1e-6 m: n = 33.
+    EXPECT_EQ(ticks, 33);
+    const Vec3 p(0.1 + 0.2, -0.0, 1e300);  // bits addition could change (-0 + 0 = +0)
+    EXPECT_EQ(std::signbit(interp.own(p).y()), true);
+    EXPECT_EQ(interp.own(p), p);
+}
+
+TEST(DrawnCheck, ComparesEachDrawnTickOnceBitForBitAndNamesTheCause) {
+    using jetrace::client::DrawnCause;
+    jetrace::client::DrawnCheck check;
+    EXPECT_FALSE(check.confirm(10, Vec3(1, 2, 3), DrawnCause::none)) << "nothing drawn at tick 10";
+    check.record(10, Vec3(1, 2, 3), false, DrawnCause::none);
+    check.record(10, Vec3(9, 9, 9), false, DrawnCause::none);  // drawn again: the first drawing counts
+    ASSERT_TRUE(check.confirm(10, Vec3(1, 2, 3), DrawnCause::near_car));
+    EXPECT_TRUE(check.last().same);
+    EXPECT_EQ(check.last().cause, DrawnCause::none) << "no cause for a tick drawn right";
+    EXPECT_FALSE(check.confirm(10, Vec3(1, 2, 3), DrawnCause::none)) << "compared once";
+    // One ulp off is off.
+    check.record(11, Vec3(1, 2, 3), false, DrawnCause::none);
+    ASSERT_TRUE(check.confirm(11, Vec3(1, 2, std::nextafter(3.0, 4.0)), DrawnCause::none));
+    EXPECT_FALSE(check.last().same);
+    EXPECT_EQ(check.last().cause, DrawnCause::none) << "unexplained";
+    // The snapshot's cause first; else the cause of the fading offset.
+    check.record(12, Vec3(1, 2, 3), true, DrawnCause::near_car);
+    ASSERT_TRUE(check.confirm(12, Vec3(1, 2, 4), DrawnCause::late_input));
+    EXPECT_EQ(check.last().cause, DrawnCause::late_input);
+    check.record(13, Vec3(1, 2, 3), true, DrawnCause::near_car);
+    ASSERT_TRUE(check.confirm(13, Vec3(1, 2, 4), DrawnCause::none));
+    EXPECT_EQ(check.last().cause, DrawnCause::near_car);
+    EXPECT_TRUE(check.last().smoothing);
+    EXPECT_EQ(check.last().tick, 13u);
+    // A tick the ring has dropped (256 later) is not compared.
+    check.record(14, Vec3(1, 2, 3), false, DrawnCause::none);
+    check.record(14 + 256, Vec3(1, 2, 3), false, DrawnCause::none);
+    EXPECT_FALSE(check.confirm(14, Vec3(1, 2, 3), DrawnCause::none));
 }
 
 }  // namespace

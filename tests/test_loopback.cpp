@@ -103,15 +103,20 @@ RaceOutcome race(int bots, const jetrace::net::Conditions* conditions, int laps,
 }
 
 void report(const RaceOutcome& o) {
-    std::uint64_t snaps = 0, corr = 0;
+    std::uint64_t snaps = 0, corr = 0, checked = 0, off = 0, unexplained = 0;
     double max_m = 0;
     for (const auto& s : o.stats) {
         snaps += s.snapshots;
         corr += s.corrections;
+        checked += s.drawn_checked;
+        off += s.drawn_off;
+        unexplained += s.drawn_off_unexplained;
         max_m = std::max(max_m, s.max_correction_m);
     }
-    std::printf("snapshots=%llu corrections=%llu max_correction_m=%.4f hash_checks=%d\n",
-                static_cast<unsigned long long>(snaps), static_cast<unsigned long long>(corr), max_m, o.hash_checks);
+    std::printf("snapshots=%llu corrections=%llu max_correction_m=%.4f hash_checks=%d drawn_checked=%llu drawn_off=%llu (unexplained %llu)\n",
+                static_cast<unsigned long long>(snaps), static_cast<unsigned long long>(corr), max_m, o.hash_checks,
+                static_cast<unsigned long long>(checked), static_cast<unsigned long long>(off),
+                static_cast<unsigned long long>(unexplained));
 }
 
 }  // namespace
@@ -125,6 +130,13 @@ TEST(Loopback, EightBotsNoLoss) {
     for (std::size_t i = 0; i < o.stats.size(); ++i) {
         EXPECT_GT(o.stats[i].snapshots, 100u) << "bot " << i;
         EXPECT_EQ(o.stats[i].corrections, 0u) << "bot " << i << " had to correct its prediction without any loss";
+        // Where the bot's car was drawn: the server's position, bit for
+        // bit, but near another car (a touch mispredicted, then its fading
+        // offset).
+        EXPECT_GT(o.stats[i].drawn_checked, 100u) << "bot " << i;
+        EXPECT_EQ(o.stats[i].drawn_off_unexplained, 0u) << "bot " << i << ": drawn elsewhere than the server had it ("
+                                                        << o.stats[i].drawn_off << " of " << o.stats[i].drawn_checked
+                                                        << " ticks), with no car near and no late input";
     }
     EXPECT_GT(o.hash_checks, 10);
     EXPECT_EQ(o.max_roster, 8u) << "the RaceStatus roster lists every player";

@@ -77,6 +77,7 @@ bool same_world(const WorldState& a, const WorldState& b) {
 void Predictor::reset() {
     my_inputs_.clear();
     my_states_.clear();
+    near_.clear();
     frames_.clear();
 }
 
@@ -111,6 +112,9 @@ void Predictor::fill_inputs(const proto::WorldSnapshot& snap, std::size_t own, s
 void Predictor::step_kept(const Scene& scene, WorldState& w, const std::vector<Input>& inputs, std::size_t own) {
     const std::uint32_t t = w.tick;
     my_states_.insert(t, w.cars[own]);
+    const bool near = near_other_car(scene, w, own);
+    near_.insert(t, near ? 1 : 0);
+    near_replay_ = near_replay_ || near;
     Frame& f = frames_.insert(t);
     f.world = w;  // reuses the frame's storage
     f.inputs = inputs;
@@ -192,10 +196,22 @@ Predictor::Outcome Predictor::reconcile(const Scene& scene, const proto::WorldSn
         return o;
     }
     replay_ = from == S ? snap.state : frame(from).world;
+    near_replay_ = near_other_car(scene, world_, own);
     for (std::uint32_t t = from; t < target; ++t) replay_tick(scene, snap, own, t, target);
+    o.near_car = near_replay_ || near_other_car(scene, replay_, own);
     std::swap(world_, replay_);  // both keep their storage
     work_.replayed_ticks += target - from;
     return o;
+}
+
+bool near_other_car(const Scene& scene, const WorldState& w, std::size_t own) {
+    if (own >= w.cars.size()) return false;
+    const double near_m = 4.0 * scene.physics.car_radius_m;
+    for (std::size_t j = 0; j < w.cars.size(); ++j) {
+        if (j == own || !w.cars[j].active) continue;
+        if ((w.cars[j].position - w.cars[own].position).squaredNorm() < near_m * near_m) return true;
+    }
+    return false;
 }
 
 bool Predictor::find_reusable(const Scene& scene, const Frame& kept) {
@@ -236,6 +252,10 @@ void Predictor::replay_tick(const Scene& scene, const proto::WorldSnapshot& snap
                             std::uint32_t target) {
     fill_inputs(snap, own, t, inputs_);
     effective_inputs(replay_, inputs_);
+    // Near in the prediction replaced (kept before step_kept overwrites
+    // it) or in the replay.
+    const char* was_near = near_.find(t);
+    near_replay_ = near_replay_ || (was_near != nullptr && *was_near != 0);
     const bool kept_next = t + 1 == target || holds(t + 1);
     if (!holds(t) || !kept_next || !find_reusable(scene, frame(t))) {
         step_kept(scene, replay_, inputs_, own);
@@ -259,6 +279,10 @@ void Predictor::replay_tick(const Scene& scene, const proto::WorldSnapshot& snap
         ++reused;
     }
     if (reuse_[own]) my_states_.insert(t, f.world.cars[own]);
+    // The step saw the reused cars inactive: whether one is near, again.
+    const bool near = near_other_car(scene, f.world, own);
+    near_.insert(t, near ? 1 : 0);
+    near_replay_ = near_replay_ || near;
     work_.reused_car_steps += reused;
 }
 

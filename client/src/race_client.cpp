@@ -197,11 +197,14 @@ void RaceClient::reset_world() {
     reconcile_pending_ = false;
     clock_.reset();
     interpolator_.reset();
+    drawn_.clear();
     have_world_ = false;
 }
 
 void RaceClient::reconcile(const proto::WorldSnapshot& snap) {
     const auto own = static_cast<std::size_t>(slot_);
+    const DrawnCause cause = cause_of(snap);
+    check_drawn(snap, cause);
     const Vec3 before = predictor_.world().cars[own].position;
     const std::uint32_t respawns_before = predictor_.world().cars[own].respawns;
     const Predictor::Outcome o = predictor_.reconcile(scene(), snap, own, !spectating_ && snap.state.cars[own].active);
@@ -211,7 +214,8 @@ void RaceClient::reconcile(const proto::WorldSnapshot& snap) {
     if (o.resynced) return clock_.resync(now_us_);  // behind the server: the clock catches up
     if (o.corrected) {
         ++stats_.corrections;
-        count_cause(snap);
+        if (cause == DrawnCause::late_input) ++stats_.corrections_late;
+        if (cause == DrawnCause::near_car) ++stats_.corrections_near_car;
         stats_.max_correction_m = std::max(stats_.max_correction_m, o.error_m);
         spdlog::debug("{}: correction at tick {}: error {:.4f} m, last applied input {}, predicted tick {}",
                       config_.name, snap.state.tick, o.error_m, snapshots_.last_applied_input_tick(), predicted_tick());
@@ -219,25 +223,28 @@ void RaceClient::reconcile(const proto::WorldSnapshot& snap) {
     if (!predictor_.thin()) {
         const CarState& after = predictor_.world().cars[own];
         interpolator_.correct(before, after.position, after.respawns != respawns_before);
+        // The replay moved the present: a car near the own one on the way
+        // (whose guessed inputs the snapshot corrected), else the snapshot's
+        // cause.
+        if (!(before == after.position)) offset_cause_ = o.near_car ? DrawnCause::near_car : cause;
     }
 }
 
-void RaceClient::count_cause(const proto::WorldSnapshot& snap) {
+DrawnCause RaceClient::cause_of(const proto::WorldSnapshot& snap) const {
     const std::uint32_t applied = snapshots_.last_applied_input_tick();
-    if (applied != proto::kNoTick && applied + 1 < snap.state.tick) {
-        ++stats_.corrections_late;
-        return;
-    }
-    const auto& cars = snap.state.cars;
+    if (applied != proto::kNoTick && applied + 1 < snap.state.tick) return DrawnCause::late_input;
+    const bool near = near_other_car(scene(), snap.state, static_cast<std::size_t>(slot_));
+    return near ? DrawnCause::near_car : DrawnCause::none;
+}
+
+void RaceClient::check_drawn(const proto::WorldSnapshot& snap, DrawnCause cause) {
     const auto own = static_cast<std::size_t>(slot_);
-    const double near_m = 4.0 * scene().physics.car_radius_m;
-    for (std::size_t j = 0; j < cars.size(); ++j) {
-        if (j == own || !cars[j].active) continue;
-        if ((cars[j].position - cars[own].position).squaredNorm() < near_m * near_m) {
-            ++stats_.corrections_near_car;
-            return;
-        }
-    }
+    if (spectating_ || !snap.state.cars[own].active) return;
+    if (!drawn_.confirm(snap.state.tick, snap.state.cars[own].position, cause)) return;
+    ++stats_.drawn_checked;
+    if (drawn_.last().same) return;
+    ++stats_.drawn_off;
+    if (drawn_.last().cause == DrawnCause::none) ++stats_.drawn_off_unexplained;
 }
 
 void RaceClient::run_tick(const InputSource& input) {
@@ -260,6 +267,9 @@ void RaceClient::run_tick(const InputSource& input) {
     // where the car was, not to its last gate.
     if (predictor_.world().cars[own].respawns != respawns) interpolator_.reset();
     interpolator_.tick();
+    if (!predictor_.thin()) {
+        drawn_.record(predicted_tick(), visual_own_position(), interpolator_.smoothing(), offset_cause_);
+    }
 }
 
 void RaceClient::send_inputs() {

@@ -89,8 +89,19 @@ std::string connection_of(const client::RaceClient& c) {
     }
 }
 
+/// The newest tick whose drawn own car was compared with the server's: where
+/// it was drawn (exact doubles), whether that was the server's position bit
+/// for bit, and if not, the likely cause; null before the first.
+json drawn_json(const client::RaceClient& c) {
+    const client::DrawnTick& d = c.last_drawn();
+    if (d.tick == proto::kNoTick) return nullptr;
+    return {{"tick", d.tick}, {"p", vec(d.drawn)}, {"same", d.same}, {"smoothing", d.smoothing},
+            {"cause", client::to_string(d.cause)}};
+}
+
 /// The connection as the driver sees it: the round trip (the transport's,
-/// or measured in ticks where it has none) and the prediction's corrections.
+/// or measured in ticks where it has none), the prediction's corrections
+/// and where the own car was drawn against the server's position.
 json net_json(const client::RaceClient& c) {
     const client::ClientStats& st = c.stats();
     const double rtt = c.rtt_ms() > 0 ? c.rtt_ms() : st.tick_round_trip_ms;
@@ -101,7 +112,11 @@ json net_json(const client::RaceClient& c) {
             {"corrections_near_car", st.corrections_near_car},
             {"late_inputs", st.late_inputs},
             {"clock_resyncs", st.clock_resyncs},
-            {"max_correction_m", rounded(st.max_correction_m, 0.001)}};
+            {"max_correction_m", rounded(st.max_correction_m, 0.001)},
+            {"drawn_checked", st.drawn_checked},
+            {"drawn_off", st.drawn_off},
+            {"drawn_off_unexplained", st.drawn_off_unexplained},
+            {"drawn", drawn_json(c)}};
 }
 
 }  // namespace

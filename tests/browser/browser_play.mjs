@@ -4,11 +4,14 @@
 // press (the follow-the-gates helper), until the car finishes. A second
 // page watches (?watch), a third comes when the race is full and must show
 // the refusal's reason.
-// Usage: node browser_play.mjs BASE_URL SHOT.png METRICS_URL
+// The ticks whose drawn position the page compared with the server's go to
+// SAMPLES.json, for browser_play.sh to check against the recording.
+// Usage: node browser_play.mjs BASE_URL SHOT.png METRICS_URL SAMPLES.json
+import { writeFileSync } from 'node:fs';
 import { check, distinctColours, launchChromium } from './page_checks.mjs';
 import { hold, keysFor } from './drive_keys.mjs';
 
-const [base, shotPath, metricsUrl] = process.argv.slice(2);
+const [base, shotPath, metricsUrl, samplesPath] = process.argv.slice(2);
 const guard = { timeout: 90000 };  // a bound on waiting, not a timed assertion
 
 const state = (page) => page.evaluate(() => window.jetrace.state());
@@ -57,9 +60,14 @@ try {
 
   const held = new Set();
   let top = 0, steps = 0;
+  // Where the page drew its car at ticks the server confirmed, with its
+  // own verdict (same, or the cause).
+  const samples = [];
   const start = Date.now();
   while (Date.now() - start < 120000) {
     s = await state(driver);
+    const d = s.net && s.net.drawn;
+    if (d && (samples.length === 0 || samples[samples.length - 1].tick !== d.tick)) samples.push({ ...d, slot: s.ownSlot });
     const car = own(s);
     if (!car) continue;
     top = Math.max(top, car.speed);
@@ -83,6 +91,12 @@ try {
     `no corrections on loopback but touches and late inputs (${s.net.corrections} in ${s.net.snapshots} snapshots: ` +
     `${s.net.corrections_near_car} near another car, ${s.net.corrections_late} late; ${s.net.late_inputs} inputs late)`);
   check(s.net.rtt_ms > 0 && s.net.rtt_ms < 200, `a round trip is shown (${s.net.rtt_ms} ms)`);
+  // Where the page drew its car, against the server's position at each
+  // confirmed tick: off only near another car or after a late input.
+  check(s.net.drawn_checked * 2 > s.net.snapshots && s.net.drawn_off_unexplained === 0,
+    `the page drew its car where the server had it but for touches and late inputs (${s.net.drawn_off} ` +
+    `of ${s.net.drawn_checked} ticks off, ${s.net.drawn_off_unexplained} of them unexplained)`);
+  writeFileSync(samplesPath, JSON.stringify(samples));
   const seconds = (Date.now() - opened) / 1000;
   console.log(JSON.stringify({ figure: 'browser_player_traffic', cars: 3, seconds: Math.round(seconds),
     ...s.traffic, kbit_s_down: Math.round(s.traffic.bytes_down * 8 / seconds / 100) / 10,

@@ -4,7 +4,9 @@
 # joins over the server's WebSocket. 2 jetrace-bot drivers and 1 page race
 # one lap of ring; headless Chromium (puppeteer-core, browser_play.mjs)
 # drives the page with keys until it finishes, with no corrections on
-# loopback; a ?watch page shows every car without a slot; a late page is
+# loopback but touches and late inputs; the page drew its car where the
+# server's recording, re-simulated, has it at the ticks it compared (bit for
+# bit, but near another car or after a late input); a ?watch page shows every car without a slot; a late page is
 # refused (the race is full) and shows the reason; the metrics count the
 # page's player under transport="websocket". The server's results
 # must list the page's player as finished, and its replay must verify.
@@ -34,7 +36,8 @@ grep -q "is missing" "$out/server.log" && { echo "the server lacks page files:";
 bpid=$!
 echo "server: ENet port $port, web port $web"
 
-node "$src/tests/browser/browser_play.mjs" "http://127.0.0.1:$web/" "$out/shot.png" "http://$metrics/metrics" ||
+node "$src/tests/browser/browser_play.mjs" "http://127.0.0.1:$web/" "$out/shot.png" "http://$metrics/metrics" \
+  "$out/drawn.json" ||
   { echo "--- server log:"; cat "$out/server.log"; exit 1; }
 
 rc=0; timeout 60 tail --pid="$spid" -f /dev/null || rc=$?
@@ -52,3 +55,26 @@ assert human["finished"], "the page's player did not finish: %r" % human
 print("server results: human finished in %s s" % human["time_s"])
 PY
 "$sim" --verify "$out/race.jtr"
+# Where the page drew its car at ticks the server confirmed, against the
+# recording re-simulated to those ticks: the page's verdict must be the
+# recording's (the same doubles, or not), and a tick drawn elsewhere must
+# have a cause (a car near, a late input).
+python3 - "$sim" "$out/race.jtr" "$out/drawn.json" <<'PY'
+import json, subprocess, sys
+sim, replay, samples = sys.argv[1], sys.argv[2], json.load(open(sys.argv[3]))
+step = max(1, len(samples) // 80)
+samples = samples[::step]
+assert len(samples) >= 20, "too few ticks compared: %d" % len(samples)
+same = 0
+for s in samples:
+    out = subprocess.run([sim, "--replay", replay, "--stop-tick", str(s["tick"])], capture_output=True, text=True, check=True)
+    line = [l for l in out.stdout.splitlines() if l.startswith("{")][-1]
+    car = [c for c in json.loads(line)["cars"] if c["slot"] == s["slot"]][0]
+    equal = car["p"] == s["p"]
+    assert equal == s["same"], "tick %d: the page drew %r and judged it %s; the recording has %r" % (
+        s["tick"], s["p"], "the server's" if s["same"] else "off", car["p"])
+    assert equal or s["cause"] in ("near_car", "late_input"), "tick %d: drawn off with no cause: %r" % (s["tick"], s)
+    same += equal
+assert same * 2 >= len(samples), "the page's car was drawn off the server's at %d of %d ticks" % (len(samples) - same, len(samples))
+print("the page drew its car at the recording's position, bit for bit, at %d of %d ticks compared (the others near a car or after a late input)" % (same, len(samples)))
+PY

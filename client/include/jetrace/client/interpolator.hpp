@@ -35,10 +35,16 @@ public:
     void correct(const Vec3& before, const Vec3& after, bool respawned) {
         offset_ = respawned ? Vec3::Zero() : Vec3(offset_ + before - after);
     }
-    /// One predicted tick: the offset fades.
-    void tick() { offset_ *= 1.0 - smoothing_per_tick_; }
+    /// One predicted tick: the offset fades, and is gone once under a
+    /// micrometre (so that the car is drawn exactly where it is predicted).
+    void tick() {
+        offset_ *= 1.0 - smoothing_per_tick_;
+        if (offset_.squaredNorm() < kGoneM * kGoneM) offset_ = Vec3::Zero();
+    }
+    /// A correction offset is still fading.
+    bool smoothing() const { return !(offset_ == Vec3::Zero()); }
 
-    Vec3 own(const Vec3& predicted) const { return predicted + offset_; }
+    Vec3 own(const Vec3& predicted) const { return smoothing() ? Vec3(predicted + offset_) : predicted; }
     /// Another car, at `now_us` on a clock of period `period_us` (unit: µs).
     Vec3 other(const SnapshotStore& store, int slot, std::uint64_t now_us, double period_us) const;
     /// The render tick at `now_us`: the newest snapshot's tick, plus the
@@ -55,6 +61,7 @@ public:
     static bool span(const SnapshotStore& store, double render, std::uint32_t& from, std::uint32_t& to);
 
 private:
+    static constexpr double kGoneM = 1e-6;
     double delay_snapshots_;
     double smoothing_per_tick_;
     double ticks_per_snapshot_ = 1.0;

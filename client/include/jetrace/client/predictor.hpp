@@ -47,6 +47,10 @@ public:
         bool corrected = false;
         /// The own car's position error then (unit: m).
         double error_m = 0;
+        /// Another car came within 4 car radii of the own one at a replayed
+        /// tick, in the prediction replaced or in the replay: a touch with
+        /// a car whose inputs were guessed can have moved the own car.
+        bool near_car = false;
     };
     /// Work done since the start (reconciliation ticks replayed, and
     /// reconciliations that needed no replay at all).
@@ -106,7 +110,8 @@ private:
     /// The inputs tick t is stepped with, given the snapshot: the others'
     /// known ones, the own one kept for t (else the snapshot's for it).
     void fill_inputs(const proto::WorldSnapshot& snap, std::size_t own, std::uint32_t t, std::vector<Input>& out) const;
-    /// Keeps the frame of tick w.tick, then steps w with `inputs`.
+    /// Keeps the frame of tick w.tick (and whether another car is near the
+    /// own one at its start), then steps w with `inputs`.
     void step_kept(const Scene& scene, WorldState& w, const std::vector<Input>& inputs, std::size_t own);
     /// The first tick from which the prediction must be stepped again.
     std::uint32_t first_stale_tick(const proto::WorldSnapshot& snap, std::size_t own, std::uint32_t target);
@@ -128,14 +133,20 @@ private:
     StepScratch scratch_;
     TickRing<Input, kRing> my_inputs_;
     TickRing<CarState, kRing> my_states_;  // own car at the start of tick t
+    TickRing<char, kRing> near_;  // another car near the own one then (near_other_car)
     TickRing<Frame, kFrames> frames_;
     std::vector<Input> inputs_;  // of the tick being stepped
     std::vector<char> reuse_;  // per car: taken from the kept next tick
     std::vector<std::uint32_t> parent_;  // groups of cars within reach
     std::vector<char> changed_;  // per group root: holds a changed car
     std::vector<std::uint32_t> order_;  // cars by x (the reach test)
+    bool near_replay_ = false;  // Outcome::near_car of the replay under way
     Work work_;
 };
+
+/// Whether another active car is within 4 car radii of car `own` in `w`:
+/// close enough that a touch with it within a few ticks is possible.
+bool near_other_car(const Scene& scene, const WorldState& w, std::size_t own);
 
 /// Whether two worlds are equal bit for bit (tick, rules and every car field).
 bool same_world(const WorldState& a, const WorldState& b);

@@ -21,6 +21,7 @@
 
 #include "jetrace/client/client_clock.hpp"
 #include "jetrace/client/client_config.hpp"
+#include "jetrace/client/drawn_check.hpp"
 #include "jetrace/client/interpolator.hpp"
 #include "jetrace/client/link.hpp"
 #include "jetrace/client/predictor.hpp"
@@ -50,6 +51,15 @@ struct ClientStats {
     /// snapshot (within 4 car radii): a car whose inputs the prediction
     /// had to guess may have touched it.
     std::uint64_t corrections_near_car = 0;
+    /// Snapshots of a tick the client had drawn its own car at (the first
+    /// drawing of each tick, DrawnCheck), and of them those where it was
+    /// drawn elsewhere than the server had it.
+    std::uint64_t drawn_checked = 0;
+    std::uint64_t drawn_off = 0;
+    /// Of those, the ones with no known cause (DrawnCause::none): neither a
+    /// late input nor a car near, at the tick or at the reconciliation
+    /// whose offset was fading. A bug in the prediction shows here.
+    std::uint64_t drawn_off_unexplained = 0;
     /// Largest position error found by a correction (unit: m).
     double max_correction_m = 0;
     /// Snapshots that could not be used (undecodable, baseline missing, stale).
@@ -133,6 +143,9 @@ public:
     /// The newest authoritative world from a snapshot.
     const WorldState& authoritative() const { return snapshots_.latest().state; }
     const ClientStats& stats() const { return stats_; }
+    /// The newest tick whose drawn own car was compared with the server's
+    /// (tick kNoTick: none yet).
+    const DrawnTick& last_drawn() const { return drawn_.last(); }
     /// The last race's results (race_number 0: none yet).
     const proto::Results& results() const { return results_; }
     /// The roster of the newest RaceStatus (names and slots of the players).
@@ -191,8 +204,11 @@ private:
     /// Forgets the prediction and snapshots: the next snapshot restarts them.
     void reset_world();
     void reconcile(const proto::WorldSnapshot& snap);
-    /// Counts a correction's likely cause (ClientStats).
-    void count_cause(const proto::WorldSnapshot& snap);
+    /// Why the own car's prediction for the snapshot's tick may have missed
+    /// it: late_input, near_car or none.
+    DrawnCause cause_of(const proto::WorldSnapshot& snap) const;
+    /// Compares where the own car was drawn at the snapshot's tick.
+    void check_drawn(const proto::WorldSnapshot& snap, DrawnCause cause);
     void run_tick(const InputSource& input);
     void send_inputs();
     /// An observer's update: acknowledges the newest snapshot.
@@ -205,6 +221,9 @@ private:
     Predictor predictor_;
     SnapshotStore snapshots_;
     Interpolator interpolator_;
+    DrawnCheck drawn_;
+    /// The cause of the reconciliation that left the fading offset.
+    DrawnCause offset_cause_ = DrawnCause::none;
 
     int slot_ = -1;
     bool spectating_ = false;
