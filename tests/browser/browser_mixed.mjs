@@ -1,6 +1,7 @@
 // A mixed race (see browser_mixed.sh): 4 pages race 4 jetrace-bot drivers
 // on one server, each page driven by its own follow-the-gates player.
-// Every page must finish.
+// Every page must finish, and draw its car off the server's position only
+// near another car or after a late input.
 // Usage: node browser_mixed.mjs BASE_URL PAGES
 import { check, launchChromium } from './page_checks.mjs';
 import { hold, keysFor } from './drive_keys.mjs';
@@ -22,7 +23,9 @@ async function race(page, name) {
     const mine = s.standings.find((r) => r.slot === s.ownSlot);
     if (mine && mine.finished) {
       await hold(page, held, new Set());
-      return { name, finished: true, time_s: mine.finish_s, corrections: s.net.corrections };
+      const n = s.net;
+      return { name, finished: true, time_s: mine.finish_s, corrections: n.corrections, late_inputs: n.late_inputs,
+        drawn_checked: n.drawn_checked, drawn_off: n.drawn_off, drawn_off_unexplained: n.drawn_off_unexplained };
     }
     await hold(page, held, keysFor(car, gates));
   }
@@ -43,6 +46,8 @@ try {
   const results = await Promise.all(pages.map((p, i) => race(p, 'page' + i)));
   for (const r of results) console.log(JSON.stringify(r));
   check(results.every((r) => r.finished), `every page finished (${results.filter((r) => r.finished).length} of ${results.length})`);
+  check(results.every((r) => r.drawn_checked > 100 && r.drawn_off_unexplained === 0),
+    'every page drew its car where the server had it but near another car or after a late input');
 } finally {
   await browser.close();
 }
