@@ -1,7 +1,8 @@
 // DCEP (RFC 8832): DATA_CHANNEL_OPEN read from hand-computed bytes (what
 // createDataChannel("unreliable", {ordered: false, maxRetransmits: 0}) and
-// a reliable channel with a protocol send), written back byte for byte, and
-// every malformed form refused with its error.
+// a reliable channel with a protocol send; Chromium 156 sent the first and
+// kChromiumReliableOpen byte for byte to webrtc_echo_peer), written back
+// byte for byte, and every malformed form refused with its error.
 #include "jetrace/webrtc/dcep.hpp"
 
 #include <gtest/gtest.h>
@@ -16,6 +17,9 @@ using Bytes = std::vector<std::uint8_t>;
 // retransmissions, label "unreliable" (10 bytes), no protocol.
 const Bytes kUnreliableOpen = {0x03, 0x81, 0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x0a, 0x00, 0x00,
                                'u',  'n',  'r',  'e',  'l',  'i',  'a',  'b',  'l',  'e'};
+// Chromium 156's createDataChannel("reliable"): reliable ordered, priority 256.
+const Bytes kChromiumReliableOpen = {0x03, 0x00, 0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x08, 0x00, 0x00,
+                                     'r',  'e',  'l',  'i',  'a',  'b',  'l',  'e'};
 // Type 3, reliable ordered, priority 512, label "rel", protocol "jr1".
 const Bytes kReliableOpen = {0x03, 0x00, 0x02, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x03, 0x00, 0x03,
                              'r',  'e',  'l',  'j',  'r',  '1'};
@@ -45,6 +49,15 @@ TEST(Dcep, ReadsReliableOpenWithProtocol) {
     EXPECT_EQ(o.label, "rel");
     EXPECT_EQ(o.protocol, "jr1");
     EXPECT_EQ(build_dcep_open(o), kReliableOpen);
+}
+
+TEST(Dcep, ReadsChromiumReliableOpen) {
+    DataChannelOpen o;
+    ASSERT_EQ(parse_dcep_open(kChromiumReliableOpen, o), DcepError::kNone);
+    EXPECT_EQ(o.channel_type, kChannelReliable);
+    EXPECT_EQ(o.priority, 256);
+    EXPECT_EQ(o.label, "reliable");
+    EXPECT_EQ(build_dcep_open(o), kChromiumReliableOpen);
 }
 
 TEST(Dcep, AckIsOneByte) {
