@@ -106,6 +106,7 @@ TEST(Dtls, HandshakeAndApplicationDataBothWays) {
     ASSERT_TRUE(client.handshake_done()) << client.error_detail();
     EXPECT_LE(largest, 1200u);
     EXPECT_GT(largest, 0u);
+    for (const auto& d : client.take_outgoing()) EXPECT_TRUE(is_dtls(d));
     ASSERT_TRUE(client.send(text("hello server")));
     ASSERT_TRUE(client.send(text("second record")));
     pump(client, server);
@@ -126,6 +127,18 @@ TEST(Dtls, HandshakeAndApplicationDataBothWays) {
     EXPECT_EQ(back[0], big);
     EXPECT_FALSE(server.send(Bytes(1200)));  // cannot fit one datagram
     EXPECT_TRUE(server.handshake_done());
+}
+
+TEST(Dtls, DemultiplexesByFirstByte) {
+    Peers p;
+    DtlsEndpoint client(*p.client_context, DtlsRole::kClient, p.server_context->fingerprint());
+    const auto hello = client.take_outgoing();
+    ASSERT_FALSE(hello.empty());
+    EXPECT_TRUE(is_dtls(hello[0]));  // 22: handshake
+    EXPECT_FALSE(is_dtls(Bytes{0x00, 0x01}));  // STUN
+    EXPECT_FALSE(is_dtls(Bytes{64}));
+    EXPECT_FALSE(is_dtls(Bytes{19}));
+    EXPECT_FALSE(is_dtls(Bytes{}));
 }
 
 TEST(Dtls, PackedFlightsAreRead) {

@@ -10,6 +10,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <unistd.h>
 #include <functional>
 #include <thread>
 
@@ -203,6 +208,36 @@ TEST(Sctp, ManyAssociationsInOneProcessStayApart) {
         ASSERT_EQ(got.size(), 1u);
         EXPECT_EQ(got[0].data, payload(50, static_cast<std::uint8_t>(i == 0 ? 0 : i + 1)));
     }
+}
+
+// usrsctp_init_nothreads: no timer and no receive thread (their work runs in
+// the caller's calls); Debian's 0.9.5.0 still starts its idle iterator thread.
+TEST(Sctp, UsrsctpRunsNoTimerOrReceiveThread) {
+    Pair p;
+    ASSERT_EQ(p.server.state(), SctpState::kConnected);
+    SctpAssociation::advance_timers(100);
+    // The names of the threads but this one (a new thread names itself
+    // shortly after it starts: until then it has the process's name).
+    const auto others = [] {
+        std::vector<std::string> names;
+        for (const auto& entry : std::filesystem::directory_iterator("/proc/self/task")) {
+            if (entry.path().filename() == std::to_string(getpid())) continue;
+            std::ifstream comm(entry.path() / "comm");
+            std::string name;
+            std::getline(comm, name);
+            names.push_back(name);
+        }
+        return names;
+    };
+    const auto only_iterator = [](const std::vector<std::string>& names) {
+        return names.size() <= 1 && std::all_of(names.begin(), names.end(), [](const auto& n) { return n == "SCTP iterator"; });
+    };
+    std::vector<std::string> names = others();
+    for (int i = 0; i < 100 && !only_iterator(names); ++i) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        names = others();
+    }
+    EXPECT_TRUE(only_iterator(names)) << names.size() << " other threads, the first: " << (names.empty() ? "" : names[0]);
 }
 
 TEST(Sctp, GarbagePacketsAreDropped) {

@@ -152,7 +152,7 @@ int main(int argc, char** argv) {
             const std::span<const std::uint8_t> d(buf.data(), got > 0 ? static_cast<std::size_t>(got) : 0);
             if (is_stun(d)) {
                 on_stun(p, d, from);
-            } else if (!d.empty() && d[0] >= 20 && d[0] <= 63 && p.have_remote) {
+            } else if (is_dtls(d) && p.have_remote) {
                 p.dtls->feed(d);
             }
         }

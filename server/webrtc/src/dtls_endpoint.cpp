@@ -126,12 +126,12 @@ void DtlsEndpoint::drive_handshake() {
 }
 
 void DtlsEndpoint::read_records() {
-    std::vector<std::uint8_t> buf(kMaxPlaintextBytes);
+    if (read_buffer_.empty()) read_buffer_.resize(kMaxPlaintextBytes);
     for (;;) {
         ERR_clear_error();
-        const int n = SSL_read(ssl_, buf.data(), static_cast<int>(buf.size()));
+        const int n = SSL_read(ssl_, read_buffer_.data(), static_cast<int>(read_buffer_.size()));
         if (n > 0) {
-            received_.emplace_back(buf.begin(), buf.begin() + n);
+            received_.emplace_back(read_buffer_.begin(), read_buffer_.begin() + n);
             continue;
         }
         const int e = SSL_get_error(ssl_, n);

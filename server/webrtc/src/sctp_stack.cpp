@@ -54,6 +54,10 @@ void initialise(const SctpGlobals& g) {
     initialised = true;
     usrsctp_init_nothreads(0, &SctpCallbacks::output, nullptr);
     usrsctp_sysctl_set_sctp_ecn_enable(0);  // no ECN bits through DTLS
+    // No address changes to announce (ASCONF): nothing for usrsctp's iterator
+    // thread to do for these associations (see sctp.hpp).
+    usrsctp_sysctl_set_sctp_asconf_enable(0);
+    usrsctp_sysctl_set_sctp_auto_asconf(0);
     usrsctp_sysctl_set_sctp_rto_min_default(g.rto_min_ms);
     usrsctp_sysctl_set_sctp_rto_max_default(g.rto_max_ms);
     usrsctp_sysctl_set_sctp_rto_initial_default(g.rto_initial_ms);

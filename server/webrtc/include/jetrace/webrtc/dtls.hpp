@@ -70,6 +70,11 @@ private:
     DtlsSettings settings_;
 };
 
+/// RFC 7983's demultiplexing test: a DTLS record starts with 20..63.
+inline bool is_dtls(std::span<const std::uint8_t> datagram) {
+    return !datagram.empty() && datagram[0] >= 20 && datagram[0] <= 63;
+}
+
 enum class DtlsRole : std::uint8_t { kServer, kClient };
 enum class DtlsState : std::uint8_t { kHandshaking, kConnected, kFailed, kClosed };
 
@@ -132,6 +137,7 @@ private:
     DtlsError error_ = DtlsError::kNone;
     std::string detail_;
     std::vector<std::vector<std::uint8_t>> received_;
+    std::vector<std::uint8_t> read_buffer_;  // one record's plaintext, allocated once
 };
 
 }  // namespace jetrace::webrtc

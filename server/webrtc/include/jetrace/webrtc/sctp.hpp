@@ -1,8 +1,17 @@
 // SCTP over DTLS (RFC 8261) with Debian's usrsctp, as WebRTC data channels
 // use it (RFC 8831): each association is an AF_CONN socket whose packets go
-// to and from the caller (who carries them in DTLS records), with no
-// usrsctp thread: usrsctp_init_nothreads, and its timers advanced by the
-// caller's loop (SctpAssociation::advance_timers), so the caller owns time.
+// to and from the caller (who carries them in DTLS records), initialised
+// with usrsctp_init_nothreads: no timer thread and no receive thread; its
+// timers are advanced by the caller's loop (SctpAssociation::advance_timers),
+// and every callback runs inside the caller's calls. (Debian 12's usrsctp
+// 0.9.5.0 still starts its "SCTP iterator" thread, which sleeps until an
+// iteration over endpoints bound to all addresses or a send-to-all is asked
+// for; these associations are bound to one AF_CONN address each, with ASCONF
+// off, and never ask.)
+//
+// Time: the retransmission timer runs on the caller's clock, but when it
+// fires usrsctp resends a chunk only if it has been out longer than the
+// smoothed RTT by the real clock (sctp_mark_all_for_resend).
 //
 // usrsctp is a process-wide singleton: the first association initialises
 // it (with the SctpGlobals in force then) and it stays for the process.
