@@ -70,7 +70,7 @@ int verify_peer_certificate(X509_STORE_CTX* store, void* /*arg*/) {
 }  // namespace detail
 
 DtlsEndpoint::DtlsEndpoint(DtlsContext& context, DtlsRole role, const Sha256Fingerprint& peer_fingerprint)
-    : context_(context), peer_fingerprint_(peer_fingerprint) {
+    : peer_fingerprint_(peer_fingerprint) {
     ssl_ = SSL_new(context.native());
     in_ = BIO_new(BIO_s_mem());
     out_ = BIO_new(BIO_s_mem());

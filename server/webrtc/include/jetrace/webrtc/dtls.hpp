@@ -127,7 +127,6 @@ private:
     void read_records();
     void fail(DtlsError error, int ssl_result);
 
-    DtlsContext& context_;
     SSL* ssl_ = nullptr;
     BIO* in_ = nullptr;   // owned by ssl_
     BIO* out_ = nullptr;  // owned by ssl_
