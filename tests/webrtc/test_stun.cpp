@@ -78,6 +78,7 @@ TEST(Stun, Rfc5769RequestParsesAndVerifies) {
     EXPECT_EQ(m.integrity_offset, kSampleRequest.size() - 32);
     EXPECT_TRUE(integrity_valid(kSampleRequest, m, kPassword));
     EXPECT_FALSE(integrity_valid(kSampleRequest, m, "VOkJxbRl1RmTxUk/WvJxBu"));
+    EXPECT_FALSE(integrity_valid(kSampleRequest, m, ""));
     std::string_view receiver, sender;
     ASSERT_TRUE(split_ice_username(*m.username, receiver, sender));
     EXPECT_EQ(receiver, "evtj");

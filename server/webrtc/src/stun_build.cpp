@@ -77,7 +77,8 @@ void append_integrity_and_fingerprint(std::vector<std::uint8_t>& m, std::string_
     assert(m.size() >= kStunHeaderBytes && m.size() % 4 == 0);
     const std::size_t at = m.size();
     const auto mac = detail::stun_hmac_sha1(m, static_cast<std::uint16_t>(at + 4 + 20 - kStunHeaderBytes), key);
-    append_attribute(m, kStunAttrMessageIntegrity, mac);
+    assert(mac.has_value());  // a key (the server's ice-pwd) is never empty
+    append_attribute(m, kStunAttrMessageIntegrity, mac.value_or(std::array<std::uint8_t, 20>{}));
     const std::size_t fp_at = m.size();
     const std::uint32_t crc = detail::stun_fingerprint(m, static_cast<std::uint16_t>(fp_at + 4 + 4 - kStunHeaderBytes));
     std::vector<std::uint8_t> value;

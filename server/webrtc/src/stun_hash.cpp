@@ -25,8 +25,9 @@ std::array<std::uint8_t, 20> header_with_length(std::span<const std::uint8_t> pr
 
 }  // namespace
 
-std::array<std::uint8_t, 20> stun_hmac_sha1(std::span<const std::uint8_t> prefix, std::uint16_t length_field,
-                                            std::string_view key) {
+std::optional<std::array<std::uint8_t, 20>> stun_hmac_sha1(std::span<const std::uint8_t> prefix,
+                                                           std::uint16_t length_field, std::string_view key) {
+    if (key.empty()) return std::nullopt;
     const auto header = header_with_length(prefix, length_field);
     std::vector<std::uint8_t> data(prefix.begin(), prefix.end());
     std::copy(header.begin(), header.end(), data.begin());
@@ -34,8 +35,7 @@ std::array<std::uint8_t, 20> stun_hmac_sha1(std::span<const std::uint8_t> prefix
     unsigned int mac_size = 0;
     const unsigned char* ok = HMAC(EVP_sha1(), key.data(), static_cast<int>(key.size()), data.data(), data.size(),
                                    mac.data(), &mac_size);
-    assert(ok != nullptr && mac_size == mac.size());
-    (void)ok;
+    if (ok == nullptr || mac_size != mac.size()) return std::nullopt;
     return mac;
 }
 

@@ -5,14 +5,16 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string_view>
 
 namespace jetrace::webrtc::detail {
 
 /// HMAC-SHA1 with `key` over `prefix` (header and attributes before
-/// MESSAGE-INTEGRITY), its length field read as `length_field`.
-std::array<std::uint8_t, 20> stun_hmac_sha1(std::span<const std::uint8_t> prefix, std::uint16_t length_field,
+/// MESSAGE-INTEGRITY), its length field read as `length_field`; nullopt if
+/// OpenSSL fails (or the key is empty), which no MESSAGE-INTEGRITY matches.
+std::optional<std::array<std::uint8_t, 20>> stun_hmac_sha1(std::span<const std::uint8_t> prefix, std::uint16_t length_field,
                                             std::string_view key);
 
 /// CRC-32 of `prefix` (its length field read as `length_field`) XOR 0x5354554e.

@@ -148,7 +148,7 @@ bool integrity_valid(std::span<const std::uint8_t> message, const StunMessage& p
     if (at < kStunHeaderBytes || message.size() < at + kAttrHeaderBytes + kIntegrityBytes) return false;
     const auto length_field = static_cast<std::uint16_t>(at + kAttrHeaderBytes + kIntegrityBytes - kStunHeaderBytes);
     const auto mac = detail::stun_hmac_sha1(message.first(at), length_field, key);
-    return CRYPTO_memcmp(mac.data(), message.data() + at + kAttrHeaderBytes, mac.size()) == 0;
+    return mac && CRYPTO_memcmp(mac->data(), message.data() + at + kAttrHeaderBytes, mac->size()) == 0;
 }
 
 bool split_ice_username(std::string_view username, std::string_view& receiver_ufrag, std::string_view& sender_ufrag) {

@@ -100,7 +100,8 @@ public:
     std::vector<std::vector<std::uint8_t>> take_outgoing();
     /// Messages received since the last call.
     std::vector<SctpMessage> take_messages();
-    /// Streams the peer reset (a data channel closed) since the last call.
+    /// Streams the peer reset (a data channel closed) since the last call;
+    /// RFC 8831 section 6.7: answer with reset_stream() on each.
     std::vector<std::uint16_t> take_reset_streams();
 
     SctpSendResult send(std::uint16_t stream, std::uint32_t ppid, std::span<const std::uint8_t> data,

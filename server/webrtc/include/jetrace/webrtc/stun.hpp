@@ -105,15 +105,16 @@ StunError parse_binding_request(std::span<const std::uint8_t> bytes, StunMessage
 /// True if `message` (parsed into `parsed` from these bytes) has a
 /// MESSAGE-INTEGRITY that is HMAC-SHA1 with `key` (ICE: the receiver's
 /// ice-pwd) over the message up to it, its length field counting up to the
-/// end of MESSAGE-INTEGRITY. Compared in constant time.
+/// end of MESSAGE-INTEGRITY. Compared in constant time; false for an empty key.
 bool integrity_valid(std::span<const std::uint8_t> message, const StunMessage& parsed, std::string_view key);
 
 /// ICE's USERNAME "receiver-ufrag:sender-ufrag" split at its first colon;
 /// false if there is none or either side is empty.
 bool split_ice_username(std::string_view username, std::string_view& receiver_ufrag, std::string_view& sender_ufrag);
 
-/// Appends MESSAGE-INTEGRITY (HMAC-SHA1 with `key`) and FINGERPRINT to a
-/// complete message (header and attributes) and sets its length field.
+/// Appends MESSAGE-INTEGRITY (HMAC-SHA1 with `key`, not empty: asserted)
+/// and FINGERPRINT to a complete message (header and attributes) and sets
+/// its length field.
 void append_integrity_and_fingerprint(std::vector<std::uint8_t>& message, std::string_view key);
 
 /// A Binding success response to the request `transaction_id`: SOFTWARE if
