@@ -71,7 +71,13 @@ struct Pair {
     Pair() { pump(browser, server); }
 };
 
-const SctpSendOptions kUnreliable{.unordered = true, .max_retransmits = 0};
+// WebRTC's {ordered: false, maxRetransmits: 0}.
+const SctpSendOptions kUnreliable = [] {
+    SctpSendOptions o;
+    o.unordered = true;
+    o.max_retransmits = 0;
+    return o;
+}();
 
 }  // namespace
 

@@ -1,14 +1,12 @@
 // A minimal data-channel server from jetrace::webrtc's blocks, for the
 // browser interop test (webrtc_browser_echo.mjs): reads the browser's offer
 // on stdin, prints its answer then "END" on stdout, and on one UDP port
-// answers STUN checks (ICE-lite), runs DTLS and SCTP, acknowledges DCEP
-// opens and echoes every message on its stream, with the channel's
-// reliability. Exits after --seconds, printing counts on stderr.
+// answers STUN checks (ICE-lite) and runs a DataChannelSession (DTLS, SCTP,
+// DCEP) that echoes every message on its channel, with the channel's
+// reliability. Exits after SECONDS, printing counts on stderr.
 // Usage: webrtc_echo_peer SECONDS < offer.sdp
-#include "jetrace/webrtc/dcep.hpp"
-#include "jetrace/webrtc/dtls.hpp"
-#include "jetrace/webrtc/sctp.hpp"
 #include "jetrace/webrtc/sdp.hpp"
+#include "jetrace/webrtc/session.hpp"
 #include "jetrace/webrtc/stun.hpp"
 
 #include <arpa/inet.h>
@@ -24,7 +22,6 @@
 #include <cstring>
 #include <iostream>
 #include <iterator>
-#include <map>
 #include <optional>
 
 using namespace jetrace::webrtc;
@@ -38,9 +35,7 @@ struct Peer {
     IceCredentials ice;
     SdpOffer offer;
     std::unique_ptr<DtlsContext> context;
-    std::unique_ptr<DtlsEndpoint> dtls;
-    std::unique_ptr<SctpAssociation> sctp;
-    std::map<std::uint16_t, DataChannelOpen> channels;
+    std::unique_ptr<DataChannelSession> session;
     int stun_checks = 0, echoed = 0;
 };
 
@@ -74,31 +69,15 @@ void on_stun(Peer& p, std::span<const std::uint8_t> d, const sockaddr_in& from) 
     send_to_remote(p, build_binding_success(m.transaction_id, StunAddress::v4(ip, ntohs(from.sin_port)), p.ice.pwd));
 }
 
-void on_message(Peer& p, const SctpMessage& m) {
-    if (m.ppid == kPpidDcep) {
-        DataChannelOpen open;
-        dump("dcep", m.data);
-        if (parse_dcep_open(m.data, open) != DcepError::kNone) return;
-        p.channels[m.stream] = open;
-        p.sctp->send(m.stream, kPpidDcep, build_dcep_ack());
-        std::fprintf(stderr, "open stream %u type 0x%02x label %s\n", m.stream, open.channel_type, open.label.c_str());
-        return;
-    }
-    const auto it = p.channels.find(m.stream);
-    if (it == p.channels.end()) return;
-    SctpSendOptions options;
-    options.unordered = it->second.unordered();
-    if (it->second.partial()) options.max_retransmits = it->second.reliability;
-    if (p.sctp->send(m.stream, m.ppid, m.data, options) == SctpSendResult::kSent) ++p.echoed;
-}
-
-// DTLS records in, SCTP packets through, everything due out.
+// Echoes what arrived, and sends what is due.
 void pump(Peer& p) {
-    for (const auto& packet : p.dtls->take_received()) p.sctp->feed(packet);
-    for (const auto& m : p.sctp->take_messages()) on_message(p, m);
-    if (p.dtls->handshake_done())
-        for (const auto& packet : p.sctp->take_outgoing()) p.dtls->send(packet);
-    for (const auto& d : p.dtls->take_outgoing()) send_to_remote(p, d);
+    for (const std::uint16_t stream : p.session->take_opened()) {
+        const DataChannelOpen* open = p.session->channel(stream);
+        std::fprintf(stderr, "open stream %u type 0x%02x label %s\n", stream, open->channel_type, open->label.c_str());
+    }
+    for (const ChannelMessage& m : p.session->take_messages())
+        if (p.session->send(m.stream, m.data, m.binary) == SctpSendResult::kSent) ++p.echoed;
+    for (const auto& d : p.session->take_outgoing()) send_to_remote(p, d);
 }
 
 int open_socket() {
@@ -138,8 +117,7 @@ int main(int argc, char** argv) {
     s.candidate_ip = "127.0.0.1";
     s.candidate_port = local_port(p.fd);
     std::cout << write_answer(p.offer, s) << "END" << std::endl;
-    p.dtls = std::make_unique<DtlsEndpoint>(*p.context, DtlsRole::kServer, p.offer.fingerprint);
-    p.sctp = std::make_unique<SctpAssociation>(SctpSettings{});
+    p.session = std::make_unique<DataChannelSession>(*p.context, p.offer);
     const auto start = std::chrono::steady_clock::now();
     auto last = start;
     std::vector<std::uint8_t> buf(2048);
@@ -153,7 +131,7 @@ int main(int argc, char** argv) {
             if (is_stun(d)) {
                 on_stun(p, d, from);
             } else if (is_dtls(d) && p.have_remote) {
-                p.dtls->feed(d);
+                p.session->feed(d);
             }
         }
         const auto now = std::chrono::steady_clock::now();
@@ -162,11 +140,10 @@ int main(int argc, char** argv) {
             SctpAssociation::advance_timers(static_cast<std::uint32_t>(ms));
             last = now;
         }
-        p.dtls->handle_timeout();
+        p.session->handle_timeout();
         pump(p);
     }
-    std::fprintf(stderr, "stun_checks=%d dtls=%d sctp=%d channels=%zu echoed=%d %s\n", p.stun_checks,
-                 static_cast<int>(p.dtls->state()), static_cast<int>(p.sctp->state()), p.channels.size(), p.echoed,
-                 p.dtls->error_detail().c_str());
+    std::fprintf(stderr, "stun_checks=%d session=%d echoed=%d %s\n", p.stun_checks, static_cast<int>(p.session->state()),
+                 p.echoed, p.session->error_detail().c_str());
     return 0;
 }

@@ -166,10 +166,10 @@ SctpSendResult SctpAssociation::send(std::uint16_t stream, std::uint32_t ppid, s
     spa.sendv_sndinfo.snd_sid = stream;
     spa.sendv_sndinfo.snd_ppid = htonl(ppid);
     spa.sendv_sndinfo.snd_flags = SCTP_EOR | (options.unordered ? SCTP_UNORDERED : 0);
-    if (options.max_retransmits) {
+    if (options.max_retransmits || options.lifetime_ms) {
         spa.sendv_flags |= SCTP_SEND_PRINFO_VALID;
-        spa.sendv_prinfo.pr_policy = SCTP_PR_SCTP_RTX;
-        spa.sendv_prinfo.pr_value = *options.max_retransmits;
+        spa.sendv_prinfo.pr_policy = options.max_retransmits ? SCTP_PR_SCTP_RTX : SCTP_PR_SCTP_TTL;
+        spa.sendv_prinfo.pr_value = options.max_retransmits ? *options.max_retransmits : *options.lifetime_ms;
     }
     const ssize_t n = usrsctp_sendv(socket_, data.data(), data.size(), nullptr, 0, &spa,
                                     static_cast<socklen_t>(sizeof spa), SCTP_SENDV_SPA, 0);

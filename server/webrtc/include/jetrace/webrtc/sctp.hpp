@@ -74,6 +74,9 @@ struct SctpSendOptions {
     bool unordered = false;
     /// PR-SCTP: retransmitted at most this many times, then abandoned.
     std::optional<std::uint32_t> max_retransmits;
+    /// PR-SCTP: abandoned this long after it was sent (unit: ms); ignored
+    /// with max_retransmits.
+    std::optional<std::uint32_t> lifetime_ms;
 };
 
 enum class SctpSendResult : std::uint8_t {
