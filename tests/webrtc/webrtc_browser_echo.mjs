@@ -3,12 +3,17 @@
 // reliable data channel, the peer answers (ICE-lite, DTLS passive), and
 // Chromium's own ICE, DTLS (BoringSSL), SCTP (dcsctp) and DCEP must open
 // both channels; then 100 binary messages each way on each channel, one
-// near the datagram budget, and a string.
-// Usage: node webrtc_browser_echo.mjs ECHO_PEER
+// near the datagram budget, and a string. With LOSS (e.g. 0.2) the peer
+// drops that share of the datagrams each way once the channels are open:
+// every reliable message must still come back, in order, and the
+// unreliable channel must not have resent what was lost (PR-SCTP with
+// maxRetransmits 0 both ways, usrsctp against Chromium's dcsctp).
+// Usage: node webrtc_browser_echo.mjs ECHO_PEER [LOSS]
 import { spawn } from 'node:child_process';
 import { check, launchChromium } from '../browser/page_checks.mjs';
 
-const [peerPath] = process.argv.slice(2);
+const [peerPath, lossText] = process.argv.slice(2);
+const loss = Number(lossText || 0);
 const guard = { timeout: 20000 };  // a bound on waiting, not a timed assertion
 
 function readAnswer(stream) {
@@ -24,7 +29,7 @@ function readAnswer(stream) {
 }
 
 const browser = await launchChromium();
-const peer = spawn(peerPath, ['30'], { stdio: ['pipe', 'pipe', 'inherit'] });
+const peer = spawn(peerPath, ['40', String(loss)], { stdio: ['pipe', 'pipe', 'inherit'] });
 try {
   const page = await browser.newPage();
   page.on('pageerror', (e) => console.log(`page error: ${e.message}`));
@@ -70,13 +75,20 @@ try {
     window.channels.reliable.send('text on the reliable channel');
   });
   await page.waitForFunction(() => window.got.reliable.length === 101 && window.got.text.length === 1, guard);
-  await new Promise((r) => setTimeout(r, 500));
+  await new Promise((r) => setTimeout(r, loss > 0 ? 3000 : 500));  // time for any resend that should not come
   const got = await page.evaluate(() => window.got);
   const order = got.reliable.map((m) => m[0]);
   check(JSON.stringify(order.slice(0, 100)) === JSON.stringify([...Array(100).keys()]), 'reliable echoes in order');
   check(got.reliable[100][2] === 1100, 'the 1,100-byte message came back whole');
   check(got.text[0] === 'text on the reliable channel', 'the string came back as a string');
-  check(got.unreliable.length >= 90, `unreliable echoes: ${got.unreliable.length} of 100 on loopback`);
+  if (loss > 0) {
+    // Each echo crosses twice: about (1 - loss)^2 of them come back, never all.
+    const expected = 100 * (1 - loss) * (1 - loss);
+    check(got.unreliable.length < 100 && got.unreliable.length > expected / 2,
+      `unreliable echoes: ${got.unreliable.length} of 100 at ${loss * 100} % loss each way (about ${expected.toFixed(0)} expected, lost ones never resent)`);
+  } else {
+    check(got.unreliable.length >= 90, `unreliable echoes: ${got.unreliable.length} of 100 on loopback`);
+  }
   check(got.unreliable.every((m) => m[1] === 0 && m[2] === 200), 'unreliable echoes on their own channel');
   const stats = await page.evaluate(async () => {
     const out = {};

@@ -3,8 +3,10 @@
 // on stdin, prints its answer then "END" on stdout, and on one UDP port
 // answers STUN checks (ICE-lite) and runs a DataChannelSession (DTLS, SCTP,
 // DCEP) that echoes every message on its channel, with the channel's
-// reliability. Exits after SECONDS, printing counts on stderr.
-// Usage: webrtc_echo_peer SECONDS < offer.sdp
+// reliability. Exits after SECONDS, printing counts on stderr. With LOSS
+// (0..1), once the channels are open that share of the datagrams each way
+// is dropped (a fixed pseudo-random sequence).
+// Usage: webrtc_echo_peer SECONDS [LOSS] < offer.sdp
 #include "jetrace/webrtc/sdp.hpp"
 #include "jetrace/webrtc/session.hpp"
 #include "jetrace/webrtc/stun.hpp"
@@ -23,6 +25,7 @@
 #include <iostream>
 #include <iterator>
 #include <optional>
+#include <random>
 
 using namespace jetrace::webrtc;
 
@@ -36,7 +39,9 @@ struct Peer {
     SdpOffer offer;
     std::unique_ptr<DtlsContext> context;
     std::unique_ptr<DataChannelSession> session;
-    int stun_checks = 0, echoed = 0;
+    int stun_checks = 0, echoed = 0, dropped = 0;
+    double loss = 0;
+    std::minstd_rand random{33};
 };
 
 // With JETRACE_ECHO_DUMP set: what the browser sent, as hex on stderr (test vectors).
@@ -47,8 +52,16 @@ void dump(const char* what, std::span<const std::uint8_t> d) {
     std::fprintf(stderr, "\n");
 }
 
+// True if this datagram is to be lost (only once the channels are open).
+bool lose(Peer& p) {
+    if (p.loss <= 0 || !p.session || p.session->state() != SessionState::kOpen) return false;
+    const bool lost = std::uniform_real_distribution<double>(0, 1)(p.random) < p.loss;
+    p.dropped += lost ? 1 : 0;
+    return lost;
+}
+
 void send_to_remote(Peer& p, const std::vector<std::uint8_t>& d) {
-    if (!p.have_remote) return;
+    if (!p.have_remote || lose(p)) return;
     sendto(p.fd, d.data(), d.size(), 0, reinterpret_cast<const sockaddr*>(&p.remote), sizeof p.remote);
 }
 
@@ -100,8 +113,10 @@ std::uint16_t local_port(int fd) {
 
 int main(int argc, char** argv) {
     const double seconds = argc > 1 ? std::atof(argv[1]) : 20.0;
+    const double loss = argc > 2 ? std::atof(argv[2]) : 0.0;
     const std::string text{std::istreambuf_iterator<char>(std::cin), {}};
     Peer p;
+    p.loss = loss;
     std::size_t line = 0;
     if (const SdpError e = parse_offer(text, p.offer, &line); e != SdpError::kNone) {
         std::fprintf(stderr, "offer refused: %s (line %zu)\n", std::string(to_string(e)).c_str(), line);
@@ -130,7 +145,7 @@ int main(int argc, char** argv) {
             const std::span<const std::uint8_t> d(buf.data(), got > 0 ? static_cast<std::size_t>(got) : 0);
             if (is_stun(d)) {
                 on_stun(p, d, from);
-            } else if (is_dtls(d) && p.have_remote) {
+            } else if (is_dtls(d) && p.have_remote && !lose(p)) {
                 p.session->feed(d);
             }
         }
@@ -143,7 +158,7 @@ int main(int argc, char** argv) {
         p.session->handle_timeout();
         pump(p);
     }
-    std::fprintf(stderr, "stun_checks=%d session=%d echoed=%d %s\n", p.stun_checks, static_cast<int>(p.session->state()),
-                 p.echoed, p.session->error_detail().c_str());
+    std::fprintf(stderr, "stun_checks=%d session=%d echoed=%d dropped=%d %s\n", p.stun_checks,
+                 static_cast<int>(p.session->state()), p.echoed, p.dropped, p.session->error_detail().c_str());
     return 0;
 }
