@@ -19,6 +19,8 @@ SERVER_PACKAGES=(
   libcpp-httplib-dev prometheus-cpp-dev
   # --web: Boost.Beast (header-only) for the game page and browser players' WebSocket, zlib to gzip the page, OpenSSL for --web-cert
   libboost-dev zlib1g-dev libssl-dev
+  # WebRTC data channels (server/webrtc): SCTP in user space (OpenSSL does STUN's HMAC and DTLS)
+  libusrsctp-dev
 )
 
 PACKAGES=(
@@ -41,6 +43,8 @@ PACKAGES=(
   # the browser viewer (client/view): Boost.Beast for HTTP and WebSocket; headless Chromium and a font
   # for its browser tests (the page's three.js and the tests' puppeteer-core come from npm, below)
   libboost-dev zlib1g-dev libssl-dev chromium fonts-dejavu-core
+  # WebRTC data channels for browser players (server/webrtc): SCTP in user space
+  libusrsctp-dev
 )
 
 NPM=1
