@@ -9,6 +9,7 @@
 # invariant; the input that did it is in build-fuzz/artifacts/<target>/
 # (reproduce: build-fuzz/fuzz/fuzz_<target> FILE; keep it as a regression:
 # copy it into fuzz/corpus/<target>/).
+# Targets run side by side, one a core (JETRACE_JOBS, default: the cores).
 # Options: JETRACE_FUZZ_TARGETS="a b" runs only those targets.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -29,19 +30,36 @@ cmake --build "$build" -j "${JETRACE_JOBS:-$(nproc)}" --target fuzz_all
 read -r -a targets <<<"${JETRACE_FUZZ_TARGETS:-$(tr '\n' ' ' <"$build/fuzz_targets.txt")}"
 runs="$build/runs"
 rm -rf "$runs"
+for t in "${targets[@]}"; do
+  if [ ! -x "$build/fuzz/fuzz_$t" ]; then echo "fuzz.sh: no fuzz target '$t'" >&2; exit 2; fi
+done
+
+# Runs target $1 into $runs/$1 (log, corpus, and its exit status in status).
+fuzz_one() {
+  local t="$1" work="$runs/$1" status=0
+  mkdir -p "$work/corpus" "$build/artifacts/$t"
+  if [ -d "$root/fuzz/corpus/$t" ]; then cp "$root/fuzz/corpus/$t"/* "$work/corpus/"; fi
+  local args=(-max_total_time="$seconds" -print_final_stats=1 -timeout=10 -rss_limit_mb=2048 -max_len=8192
+              -artifact_prefix="$build/artifacts/$t/")
+  if [ -f "$root/fuzz/dict/$t.dict" ]; then args+=(-dict="$root/fuzz/dict/$t.dict"); fi
+  "$build/fuzz/fuzz_$t" "${args[@]}" "$work/corpus" >"$work/log" 2>&1 || status=$?
+  echo "$status" >"$work/status"
+}
+
+# One target a core at a time (JETRACE_JOBS, default: the cores), then the
+# report in the targets' order.
+jobs="${JETRACE_JOBS:-$(nproc)}"
+for t in "${targets[@]}"; do
+  while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do wait -n || true; done
+  fuzz_one "$t" &
+done
+wait
+
 total=0
 failed=0
 for t in "${targets[@]}"; do
-  exe="$build/fuzz/fuzz_$t"
-  if [ ! -x "$exe" ]; then echo "fuzz.sh: no fuzz target '$t'" >&2; exit 2; fi
   work="$runs/$t"
-  mkdir -p "$work/corpus" "$build/artifacts/$t"
-  if [ -d "$root/fuzz/corpus/$t" ]; then cp "$root/fuzz/corpus/$t"/* "$work/corpus/"; fi
-  args=(-max_total_time="$seconds" -print_final_stats=1 -timeout=10 -rss_limit_mb=2048 -max_len=8192
-        -artifact_prefix="$build/artifacts/$t/")
-  if [ -f "$root/fuzz/dict/$t.dict" ]; then args+=(-dict="$root/fuzz/dict/$t.dict"); fi
-  status=0
-  "$exe" "${args[@]}" "$work/corpus" >"$work/log" 2>&1 || status=$?
+  status="$(cat "$work/status")"
   execs="$(sed -n 's/^stat::number_of_executed_units: *\([0-9]*\).*/\1/p' "$work/log" | tail -1)"
   execs="${execs:-0}"
   total=$((total + execs))
