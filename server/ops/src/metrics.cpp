@@ -76,6 +76,7 @@ struct Metrics::Impl {
                                                           .Register(registry);
     Gauge& players_enet = players_by_transport.Add({{"transport", "enet"}});
     Gauge& players_websocket = players_by_transport.Add({{"transport", "websocket"}});
+    Gauge& players_webrtc = players_by_transport.Add({{"transport", "webrtc"}});
     prometheus::Family<Counter>& transport_bytes_out = prometheus::BuildCounter()
                                                            .Name("jetrace_transport_bytes_sent_total")
                                                            .Help("Bytes sent, by transport (ENet datagrams, WebSocket frames)")
@@ -86,8 +87,10 @@ struct Metrics::Impl {
                                                           .Register(registry);
     Counter& enet_out = transport_bytes_out.Add({{"transport", "enet"}});
     Counter& websocket_out = transport_bytes_out.Add({{"transport", "websocket"}});
+    Counter& webrtc_out = transport_bytes_out.Add({{"transport", "webrtc"}});
     Counter& enet_in = transport_bytes_in.Add({{"transport", "enet"}});
     Counter& websocket_in = transport_bytes_in.Add({{"transport", "websocket"}});
+    Counter& webrtc_in = transport_bytes_in.Add({{"transport", "webrtc"}});
     Gauge& web_sockets = gauge(registry, "jetrace_websocket_sockets", "Open game WebSockets (--web)");
     prometheus::Family<Counter>& web_closed = prometheus::BuildCounter()
                                                   .Name("jetrace_websocket_closed_total")
@@ -172,7 +175,7 @@ void Metrics::publish(const MetricsSample& s) {
     j["races_finished"] = s.counters.races_finished;
     j["observers"] = s.observers;
     j["players"] = nlohmann::json::array();
-    int connected = 0, spectating = 0, held = 0, websocket = 0;
+    int connected = 0, spectating = 0, held = 0, websocket = 0, webrtc = 0;
     for (const auto& p : s.players) {
         j["players"].push_back({{"slot", p.slot},
                                 {"name", p.name},
@@ -182,6 +185,7 @@ void Metrics::publish(const MetricsSample& s) {
                                 {"finished", p.finished},
                                 {"transport", p.transport}});
         websocket += p.connected && p.transport == "websocket" ? 1 : 0;
+        webrtc += p.connected && p.transport == "webrtc" ? 1 : 0;
         connected += p.connected ? 1 : 0;
         spectating += p.connected && p.spectating ? 1 : 0;
         held += p.connected ? 0 : 1;
@@ -192,12 +196,15 @@ void Metrics::publish(const MetricsSample& s) {
     std::lock_guard lock(m.mutex);
     m.status = std::move(status);
     m.players.Set(connected);
-    m.players_enet.Set(connected - websocket);
+    m.players_enet.Set(connected - websocket - webrtc);
     m.players_websocket.Set(websocket);
+    m.players_webrtc.Set(webrtc);
     advance(m.enet_out, s.traffic_enet.bytes_sent);
     advance(m.enet_in, s.traffic_enet.bytes_received);
     advance(m.websocket_out, s.traffic_websocket.bytes_sent);
     advance(m.websocket_in, s.traffic_websocket.bytes_received);
+    advance(m.webrtc_out, s.traffic_webrtc.bytes_sent);
+    advance(m.webrtc_in, s.traffic_webrtc.bytes_received);
     m.web_sockets.Set(static_cast<double>(s.web.open_sockets));
     advance(m.web_queue_full, s.web.send_queue_drops);
     advance(m.web_malformed, s.web.malformed_drops);
@@ -244,8 +251,9 @@ MetricsSample sample_of(const server::RaceServer& server, const net::Transport& 
     s.observers = server.observers();
     s.counters = server.counters();
     s.traffic = transport.totals();
-    s.traffic_enet = net::part_totals(transport, 0);
-    s.traffic_websocket = net::part_totals(transport, 1);
+    s.traffic_enet = net::part_totals(transport, "enet");
+    s.traffic_websocket = net::part_totals(transport, "websocket");
+    s.traffic_webrtc = net::part_totals(transport, "webrtc");
     return s;
 }
 

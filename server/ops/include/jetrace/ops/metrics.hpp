@@ -40,9 +40,9 @@ struct MetricsSample {
     /// Hellos refused because Agones had not allocated the server yet.
     std::uint64_t refused_unallocated = 0;
     net::Totals traffic;
-    /// The traffic of each transport: ENet, and the WebSocket one (zeros
-    /// without --web).
-    net::Totals traffic_enet, traffic_websocket;
+    /// The traffic of each transport: ENet, the WebSocket and the WebRTC
+    /// data channel ones (zeros without --web).
+    net::Totals traffic_enet, traffic_websocket, traffic_webrtc;
     /// The WebSocket transport's counters (zeros without --web).
     web::WebStats web;
 };
