@@ -9,31 +9,52 @@ import createJetrace from '/jetrace_web.js';
 import { closeText } from './close_text.js';
 
 const sockets = new Map();
+// 'webrtc': the page holds the data channels (rtc_link.js) and relays
+// frames; the id of the socket riding them, while they are open.
+let transport = 'websocket', rtcId = null, rtcOpen = false;
 const traffic = { bytes_down: 0, bytes_up: 0, frames_down: 0, frames_up: 0 };
 let M = null;
 let input = { keys: { up: false, left: false, right: false, brake: false }, pad: null };
 let hello = false, closed = false, lastTick = -2, lastFrameAt = 0;
 
+function received(id, buffer) {
+  const bytes = new Uint8Array(buffer);
+  traffic.bytes_down += bytes.length;
+  traffic.frames_down++;
+  const p = M._malloc(bytes.length);
+  M.HEAPU8.set(bytes, p);
+  M._jr_socket_frame(id, p, bytes.length);
+  M._free(p);
+}
+
 const hooks = {
   open(id) {
+    if (transport === 'webrtc' && rtcOpen && rtcId === null) {
+      rtcId = id;
+      setTimeout(() => { M._jr_socket_opened(id); step(); }, 0);
+      return;
+    }
     const scheme = self.location.protocol === 'https:' ? 'wss://' : 'ws://';
     const ws = new WebSocket(scheme + self.location.host + '/play');
     ws.binaryType = 'arraybuffer';
     sockets.set(id, ws);
     ws.onopen = () => { M._jr_socket_opened(id); step(); };
     ws.onmessage = (e) => {
-      if (!(e.data instanceof ArrayBuffer)) return;
-      const bytes = new Uint8Array(e.data);
-      traffic.bytes_down += bytes.length;
-      traffic.frames_down++;
-      const p = M._malloc(bytes.length);
-      M.HEAPU8.set(bytes, p);
-      M._jr_socket_frame(id, p, bytes.length);
-      M._free(p);
+      if (e.data instanceof ArrayBuffer) received(id, e.data);
     };
     ws.onclose = (e) => { sockets.delete(id); M._jr_socket_closed(id, e.code); step(); };
   },
   send(id, channel, bytes) {
+    if (id === rtcId) {
+      if (!rtcOpen) return false;
+      const frame = new Uint8Array(bytes.length + 1);
+      frame[0] = channel;
+      frame.set(bytes, 1);
+      postMessage({ type: 'rtc-send', frame: frame.buffer }, [frame.buffer]);
+      traffic.bytes_up += frame.length;
+      traffic.frames_up++;
+      return true;
+    }
     const ws = sockets.get(id);
     if (!ws || ws.readyState !== WebSocket.OPEN) return false;
     const frame = new Uint8Array(bytes.length + 1);
@@ -45,6 +66,10 @@ const hooks = {
     return true;
   },
   close(id) {
+    if (id === rtcId) {
+      postMessage({ type: 'rtc-leave' });
+      return;
+    }
     const ws = sockets.get(id);
     if (ws) ws.close(1000);
   },
@@ -98,7 +123,19 @@ async function start(options) {
 
 self.onmessage = (e) => {
   const m = e.data;
-  if (m.type === 'start') start(m.options);
+  if (m.type === 'start') {
+    transport = m.transport;
+    rtcOpen = transport === 'webrtc';
+    start(m.options);
+  } else if (m.type === 'rtc-frame' && rtcId !== null && rtcOpen) received(rtcId, m.frame);
+  else if (m.type === 'rtc-close' && rtcOpen) {
+    rtcOpen = false;
+    if (rtcId !== null) {
+      const id = rtcId;
+      M._jr_socket_closed(id, 1006);
+      step();
+    }
+  }
   else if (m.type === 'input') input = m.input;
   else if (m.type === 'track') {
     const bytes = trackBytes();
