@@ -25,10 +25,10 @@ const kRtcOpenMs = 3000;
 // Which transport the worker's socket uses: the WebRTC data channels when
 // they open in time, else the WebSocket (docs/BROWSER.md). ?transport=websocket
 // goes straight to the WebSocket.
-async function chooseTransport(options) {
+async function chooseTransport(options, worker) {
   if (options.transport === 'websocket') return { name: 'websocket', why: 'asked for (?transport=websocket)' };
   try {
-    return { name: 'webrtc', link: await openRtcLink(kRtcOpenMs) };
+    return { name: 'webrtc', link: await openRtcLink(kRtcOpenMs, worker) };
   } catch (e) {
     console.log('jetrace: no WebRTC data channel (' + e.message + '): racing over the WebSocket');
     return { name: 'websocket', why: e.message };
@@ -57,18 +57,12 @@ export function clientSource(options) {
     else if (m.type === 'message') handlers.message(m.text);
     else if (m.type === 'close') handlers.close(m.text);
     else if (m.type === 'track' && trackWaiter) trackWaiter(m.bytes);
-    else if (m.type === 'rtc-send' && transport.link) transport.link.send(m.frame);
-    else if (m.type === 'rtc-leave' && transport.link) transport.link.close();
+    else if (m.type === 'rtc-send' && transport && transport.link) transport.link.send(m.frame);
+    else if (m.type === 'rtc-leave' && transport && transport.link) transport.link.close();
   };
   worker.onerror = (e) => handlers.close('the WebAssembly client failed: ' + (e.message || 'error'));
-  chooseTransport(options).then((t) => {
+  chooseTransport(options, worker).then((t) => {
     transport = t;
-    if (t.link) {
-      t.link.on({
-        frame: (buffer) => worker.postMessage({ type: 'rtc-frame', frame: buffer }, [buffer]),
-        close: () => worker.postMessage({ type: 'rtc-close' }),
-      });
-    }
     worker.postMessage({ type: 'start', options, transport: t.name });
   });
   setInterval(() => { input.pad = gamepadInput(); post(); }, 8);
@@ -87,5 +81,7 @@ export function clientSource(options) {
     // 'webrtc' or 'websocket' once chosen, else null.
     transport: () => (transport ? transport.name : null),
     transportWhy: () => (transport && transport.why) || null,
+    // 'worker' (the channels moved to the worker) or 'relay' (this thread carries them).
+    rtcMode: () => (transport && transport.link ? transport.link.mode : null),
   };
 }

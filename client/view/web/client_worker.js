@@ -9,9 +9,10 @@ import createJetrace from '/jetrace_web.js';
 import { closeText } from './close_text.js';
 
 const sockets = new Map();
-// 'webrtc': the page holds the data channels (rtc_link.js) and relays
-// frames; the id of the socket riding them, while they are open.
-let transport = 'websocket', rtcId = null, rtcOpen = false;
+// 'webrtc': the socket rides the page's data channels (rtc_link.js):
+// `channels` when the page moved them here, else the page relays frames.
+// rtcId: the id of the socket riding them, while they are open.
+let transport = 'websocket', rtcId = null, rtcOpen = false, channels = null;
 const traffic = { bytes_down: 0, bytes_up: 0, frames_down: 0, frames_up: 0 };
 let M = null;
 let input = { keys: { up: false, left: false, right: false, brake: false }, pad: null };
@@ -47,11 +48,17 @@ const hooks = {
   send(id, channel, bytes) {
     if (id === rtcId) {
       if (!rtcOpen) return false;
-      const frame = new Uint8Array(bytes.length + 1);
-      frame[0] = channel;
-      frame.set(bytes, 1);
-      postMessage({ type: 'rtc-send', frame: frame.buffer }, [frame.buffer]);
-      traffic.bytes_up += frame.length;
+      if (channels) {
+        const c = channels[channel];
+        if (!c || c.readyState !== 'open') return false;
+        c.send(bytes.slice());  // a copy: `bytes` views the WebAssembly heap
+      } else {
+        const frame = new Uint8Array(bytes.length + 1);
+        frame[0] = channel;
+        frame.set(bytes, 1);
+        postMessage({ type: 'rtc-send', frame: frame.buffer }, [frame.buffer]);
+      }
+      traffic.bytes_up += bytes.length + 1;
       traffic.frames_up++;
       return true;
     }
@@ -67,6 +74,7 @@ const hooks = {
   },
   close(id) {
     if (id === rtcId) {
+      if (channels) channels.forEach((c) => c.close());
       postMessage({ type: 'rtc-leave' });
       return;
     }
@@ -74,6 +82,34 @@ const hooks = {
     if (ws) ws.close(1000);
   },
 };
+
+// The data channels, moved here by the page: "rtc-opened" to the page when
+// both are open; their messages become frames of the socket riding them.
+function adoptChannels(list) {
+  channels = list;
+  let open = 0;
+  channels.forEach((c, channel) => {
+    c.binaryType = 'arraybuffer';
+    c.onopen = () => { if (++open === channels.length) postMessage({ type: 'rtc-opened' }); };
+    c.onclose = () => { postMessage({ type: 'rtc-close' }); rtcClosed(); };
+    c.onmessage = (e) => {
+      if (!(e.data instanceof ArrayBuffer) || rtcId === null || !rtcOpen) return;
+      const frame = new Uint8Array(e.data.byteLength + 1);
+      frame[0] = channel;
+      frame.set(new Uint8Array(e.data), 1);
+      received(rtcId, frame.buffer);
+    };
+  });
+}
+
+function rtcClosed() {
+  if (!rtcOpen) return;
+  rtcOpen = false;
+  if (rtcId !== null) {
+    M._jr_socket_closed(rtcId, 1006);
+    step();
+  }
+}
 
 function step() {
   const { keys, pad } = input;
@@ -127,15 +163,12 @@ self.onmessage = (e) => {
     transport = m.transport;
     rtcOpen = transport === 'webrtc';
     start(m.options);
+  } else if (m.type === 'rtc-channels') adoptChannels(m.channels);
+  else if (m.type === 'rtc-drop' && channels) {
+    channels.forEach((c) => c.close());
+    channels = null;
   } else if (m.type === 'rtc-frame' && rtcId !== null && rtcOpen) received(rtcId, m.frame);
-  else if (m.type === 'rtc-close' && rtcOpen) {
-    rtcOpen = false;
-    if (rtcId !== null) {
-      const id = rtcId;
-      M._jr_socket_closed(id, 1006);
-      step();
-    }
-  }
+  else if (m.type === 'rtc-close') rtcClosed();
   else if (m.type === 'input') input = m.input;
   else if (m.type === 'track') {
     const bytes = trackBytes();

@@ -1,24 +1,37 @@
 // The page's WebRTC data channels to jetrace-server (docs/PROTOCOL.md,
-// "Transport: WebRTC data channel"). RTCPeerConnection exists on the main
-// thread only, not in Web Workers: this side holds the connection and the
-// two channels, and client_source.js relays their messages to and from the
-// worker's socket shim (one frame: a channel byte and one message, as on
-// the WebSocket). "unreliable" (unordered, no retransmissions) carries
-// channel 0, "reliable" (ordered, reliable) channel 1.
+// "Transport: WebRTC data channel"; docs/BROWSER.md, "Transports").
+// RTCPeerConnection exists on the main thread only, not in Web Workers, so
+// this side makes it and the two channels: "unreliable" (unordered, no
+// retransmissions) for channel 0 and "reliable" (ordered, reliable) for
+// channel 1. The channels themselves go to the worker (RTCDataChannel is
+// transferable in Chromium), so their messages never wait for the main
+// thread's drawing; where a browser cannot transfer them, the main thread
+// relays each frame (a channel byte and one message, as on the WebSocket).
 
-// Opens both channels: resolves with the link, or rejects with the reason
-// (the POST /rtc refused, or the channels not open within `timeoutMs`).
-export async function openRtcLink(timeoutMs) {
+// Opens both channels for `worker`: resolves with the link, or rejects with
+// the reason (POST /rtc refused, or the channels not open within `timeoutMs`).
+export async function openRtcLink(timeoutMs, worker) {
   if (typeof RTCPeerConnection !== 'function') throw new Error('no RTCPeerConnection in this browser');
   const pc = new RTCPeerConnection({ iceServers: [] });
   const channels = [
     pc.createDataChannel('unreliable', { ordered: false, maxRetransmits: 0 }),
     pc.createDataChannel('reliable', { ordered: true }),
   ];
-  for (const c of channels) c.binaryType = 'arraybuffer';
-  let timer = null;
+  let moved = true;
   try {
-    const opened = Promise.all(channels.map((c) => new Promise((resolve, reject) => {
+    worker.postMessage({ type: 'rtc-channels', channels }, channels);
+  } catch {
+    moved = false;  // not transferable here: relayed by this thread
+  }
+  let timer = null, onWorker = null;
+  try {
+    const opened = moved ? new Promise((resolve, reject) => {
+      onWorker = (e) => {
+        if (e.data.type === 'rtc-opened') resolve();
+        else if (e.data.type === 'rtc-close') reject(new Error('a data channel closed while opening'));
+      };
+      worker.addEventListener('message', onWorker);
+    }) : Promise.all(channels.map((c) => new Promise((resolve, reject) => {
       c.onopen = resolve;
       c.onclose = () => reject(new Error('a data channel closed while opening'));
     })));
@@ -39,28 +52,31 @@ export async function openRtcLink(timeoutMs) {
     await Promise.race([signalled, late]);
   } catch (e) {
     pc.close();
+    if (moved) worker.postMessage({ type: 'rtc-drop' });
     throw e;
   } finally {
     clearTimeout(timer);
+    if (onWorker) worker.removeEventListener('message', onWorker);
   }
-  return rtcLink(pc, channels);
+  return moved ? { mode: 'worker', pc, close() { pc.close(); } } : relayLink(pc, channels, worker);
 }
 
-function rtcLink(pc, channels) {
-  const handlers = { frame() {}, close() {} };
+// The main thread carries the frames: worker <-> channels.
+function relayLink(pc, channels, worker) {
   let closed = false;
   const close = () => {
     if (closed) return;
     closed = true;
-    handlers.close();
+    worker.postMessage({ type: 'rtc-close' });
   };
   channels.forEach((c, channel) => {
+    c.binaryType = 'arraybuffer';
     c.onmessage = (e) => {
       if (!(e.data instanceof ArrayBuffer)) return;
       const frame = new Uint8Array(e.data.byteLength + 1);
       frame[0] = channel;
       frame.set(new Uint8Array(e.data), 1);
-      handlers.frame(frame.buffer);
+      worker.postMessage({ type: 'rtc-frame', frame: frame.buffer }, [frame.buffer]);
     };
     c.onclose = close;
   });
@@ -68,18 +84,16 @@ function rtcLink(pc, channels) {
     if (pc.connectionState === 'failed' || pc.connectionState === 'closed') close();
   };
   return {
-    on(h) { Object.assign(handlers, h); },
-    get open() { return !closed; },
+    mode: 'relay',
+    pc,
     // One frame from the worker: its channel byte picks the data channel.
     send(frame) {
       const bytes = new Uint8Array(frame);
       const c = channels[bytes[0]];
-      if (closed || !c || c.readyState !== 'open') return false;
-      c.send(bytes.subarray(1));
-      return true;
+      if (!closed && c && c.readyState === 'open') c.send(bytes.subarray(1));
     },
     close() {
-      if (!closed) pc.close();
+      pc.close();
       close();
     },
   };
