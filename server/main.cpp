@@ -73,6 +73,7 @@ struct Host {
         sample.replay_failures = replay_failures();
         sample.replay_bytes_written = recorder ? recorder->bytes_written() : 0;
         if (web) sample.web = web::web_stats(*web);
+        if (rtc) sample.rtc = rtc::rtc_stats(*rtc);
         metrics->publish(sample);
     }
 };

@@ -92,6 +92,16 @@ struct Metrics::Impl {
     Counter& websocket_in = transport_bytes_in.Add({{"transport", "websocket"}});
     Counter& webrtc_in = transport_bytes_in.Add({{"transport", "webrtc"}});
     Gauge& web_sockets = gauge(registry, "jetrace_websocket_sockets", "Open game WebSockets (--web)");
+    Gauge& rtc_sessions = gauge(registry, "jetrace_webrtc_sessions", "WebRTC data-channel sessions, pending ones included");
+    prometheus::Family<Counter>& rtc_refused = prometheus::BuildCounter()
+                                                   .Name("jetrace_webrtc_refused_total")
+                                                   .Help("WebRTC offers and datagrams refused, by reason")
+                                                   .Register(registry);
+    Counter& rtc_bad_offer = rtc_refused.Add({{"reason", "bad_offer"}});
+    Counter& rtc_busy = rtc_refused.Add({{"reason", "busy"}});
+    Counter& rtc_expired = rtc_refused.Add({{"reason", "pending_expired"}});
+    Counter& rtc_rate_limited = rtc_refused.Add({{"reason", "rate_limited"}});
+    Counter& rtc_oversize = rtc_refused.Add({{"reason", "oversize_message"}});
     prometheus::Family<Counter>& web_closed = prometheus::BuildCounter()
                                                   .Name("jetrace_websocket_closed_total")
                                                   .Help("Game WebSockets the server closed, by reason")
@@ -211,6 +221,12 @@ void Metrics::publish(const MetricsSample& s) {
     advance(m.web_origin, s.web.origin_refusals);
     advance(m.web_full, s.web.full_refusals);
     advance(m.web_pre_hello, s.web.pre_hello_refusals);
+    m.rtc_sessions.Set(static_cast<double>(s.rtc.sessions_open));
+    advance(m.rtc_bad_offer, s.rtc.offers_refused_bad);
+    advance(m.rtc_busy, s.rtc.offers_refused_busy);
+    advance(m.rtc_expired, s.rtc.pending_expired);
+    advance(m.rtc_rate_limited, s.rtc.rate_limited);
+    advance(m.rtc_oversize, s.rtc.oversize_refused);
     m.spectators.Set(spectating);
     m.observers.Set(s.observers);
     m.held.Set(held);

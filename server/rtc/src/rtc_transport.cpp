@@ -127,6 +127,8 @@ private:
         RtcSession& s = sessions_.at(u->second);
         if (theirs != s.offer.ice_ufrag || s.closing || !webrtc::integrity_valid(d, m, s.ice.pwd)) return;
         if (!s.remote || (!s.connected && m.use_candidate && s.remote->key() != from.key())) bind(s, from);
+        // Consent checks (RFC 7675, every few seconds) keep a quiet session alive.
+        if (s.remote->key() == from.key()) s.last_received_ms = now_;
         if (!s.channels) {
             webrtc::SctpSettings sctp;
             sctp.max_message_bytes = kMaxReliableBytes;

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "jetrace/net/transport.hpp"
+#include "jetrace/rtc/rtc_transport.hpp"
 #include "jetrace/web/web_transport.hpp"
 #include "jetrace/server/counters.hpp"
 
@@ -45,6 +46,8 @@ struct MetricsSample {
     net::Totals traffic_enet, traffic_websocket, traffic_webrtc;
     /// The WebSocket transport's counters (zeros without --web).
     web::WebStats web;
+    /// The WebRTC transport's counters (zeros without it).
+    rtc::RtcStats rtc;
 };
 
 /// The RaceServer's and the transport's figures now.
