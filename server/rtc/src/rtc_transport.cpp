@@ -1,5 +1,6 @@
 #include "jetrace/rtc/rtc_transport.hpp"
 
+#include "rate_limits.hpp"
 #include "rtc_session.hpp"
 #include "signal_state.hpp"
 
@@ -18,12 +19,9 @@ namespace {
 
 using detail::Endpoint;
 using detail::RtcSession;
-using detail::TokenBucket;
 
 /// Datagrams read per service() at most, so a flood cannot hold a tick.
 constexpr int kMaxDatagramsPerService = 4096;
-/// IPs whose rate limits are remembered at most; beyond: new IPs are dropped.
-constexpr std::size_t kMaxBuckets = 16384;
 /// After disconnect(), queued reliable messages (Goodbye) get this long (unit: ms).
 constexpr std::uint64_t kCloseGraceMs = 1000;
 /// DTLS content type 22: handshake (ClientHello and later flights).
@@ -32,7 +30,11 @@ constexpr std::uint8_t kDtlsHandshake = 22;
 class RtcTransport final : public net::Transport {
 public:
     RtcTransport(const RtcConfig& config, std::unique_ptr<webrtc::DtlsContext> context)
-        : config_(config), context_(std::move(context)), next_peer_(config.peer_base) {}
+        : config_(config),
+          context_(std::move(context)),
+          next_peer_(config.peer_base),
+          stun_limits_(config.stun_per_s, config.stun_burst),
+          handshake_limits_(config.handshake_per_s, config.handshake_burst) {}
     ~RtcTransport() override {
         if (signal_) signal_->close();
     }
@@ -53,7 +55,8 @@ public:
             if (step(it->second, events)) it = end(it, events);
             else ++it;
         }
-        prune_buckets();
+        stun_limits_.prune(now_);
+        handshake_limits_.prune(now_);
     }
 
     bool send(net::PeerId peer, net::Channel channel, std::span<const std::uint8_t> data) override {
@@ -108,7 +111,7 @@ private:
             ++totals_.packets_received;
             const std::span<const std::uint8_t> d(buffer_.data(), static_cast<std::size_t>(n));
             if (webrtc::is_stun(d)) {
-                if (!allow(stun_buckets_, from, config_.stun_per_s, config_.stun_burst)) ++limited;
+                if (!stun_limits_.allow(from.ip_key(), now_)) ++limited;
                 else on_stun(d, from);
             } else if (webrtc::is_dtls(d)) {
                 on_dtls(d, from, limited);
@@ -124,7 +127,9 @@ private:
         if (!webrtc::split_ice_username(*m.username, ours, theirs)) return;
         const auto u = by_ufrag_.find(std::string(ours));
         if (u == by_ufrag_.end()) return;
-        RtcSession& s = sessions_.at(u->second);
+        const auto found = sessions_.find(u->second);
+        if (found == sessions_.end()) return;
+        RtcSession& s = found->second;
         if (theirs != s.offer.ice_ufrag || s.closing || !webrtc::integrity_valid(d, m, s.ice.pwd)) return;
         if (!s.remote || (!s.connected && m.use_candidate && s.remote->key() != from.key())) bind(s, from);
         // Consent checks (RFC 7675, every few seconds) keep a quiet session alive.
@@ -148,7 +153,9 @@ private:
     }
 
     void bind(RtcSession& s, const Endpoint& from) {
-        if (s.remote) by_remote_.erase(s.remote->key());
+        if (s.remote) {
+            if (const auto r = by_remote_.find(s.remote->key()); r != by_remote_.end() && r->second == s.peer) by_remote_.erase(r);
+        }
         // Another session bound to this address loses it (a page that came back).
         by_remote_[from.key()] = s.peer;
         s.remote = from;
@@ -157,32 +164,16 @@ private:
     void on_dtls(std::span<const std::uint8_t> d, const Endpoint& from, std::uint64_t& limited) {
         const auto it = by_remote_.find(from.key());
         if (it == by_remote_.end()) return;
-        RtcSession& s = sessions_.at(it->second);
+        const auto found = sessions_.find(it->second);
+        if (found == sessions_.end()) return;
+        RtcSession& s = found->second;
         if (!s.channels || !s.remote || s.remote->key() != from.key()) return;
-        if (d[0] == kDtlsHandshake && !allow(handshake_buckets_, from, config_.handshake_per_s, config_.handshake_burst)) {
+        if (d[0] == kDtlsHandshake && !handshake_limits_.allow(from.ip_key(), now_)) {
             ++limited;
             return;
         }
         s.last_received_ms = now_;
         s.channels->feed(d);
-    }
-
-    bool allow(std::map<std::string, TokenBucket>& buckets, const Endpoint& from, double per_s, double burst) {
-        auto it = buckets.find(from.ip_key());
-        if (it == buckets.end()) {
-            if (buckets.size() >= kMaxBuckets) return false;
-            it = buckets.emplace(from.ip_key(), TokenBucket{}).first;
-        }
-        return it->second.take(now_, per_s, burst);
-    }
-
-    // Buckets idle long enough to be full again are forgotten.
-    void prune_buckets() {
-        if (now_ < pruned_ms_ + 5000) return;
-        pruned_ms_ = now_;
-        for (auto* buckets : {&stun_buckets_, &handshake_buckets_}) {
-            std::erase_if(*buckets, [&](const auto& b) { return now_ > b.second.last_ms + 10000; });
-        }
     }
 
     /// Advances one session; true when it is over.
@@ -204,11 +195,11 @@ private:
     std::shared_ptr<detail::SignalState> signal_;
     detail::UdpSocket socket_;
     std::array<std::uint8_t, 2048> buffer_{};
-    std::uint64_t now_ = 0, pruned_ms_ = 0;
+    std::uint64_t now_ = 0;
     net::PeerId next_peer_;
     std::map<net::PeerId, RtcSession> sessions_;
     std::map<std::string, net::PeerId> by_ufrag_, by_remote_;
-    std::map<std::string, TokenBucket> stun_buckets_, handshake_buckets_;
+    detail::RateLimits stun_limits_, handshake_limits_;
     net::Totals totals_;
 };
 

@@ -4,7 +4,6 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-#include <algorithm>
 #include <cerrno>
 #include <cstring>
 
@@ -79,19 +78,6 @@ long UdpSocket::receive(std::span<std::uint8_t> buffer, Endpoint& from) {
 bool UdpSocket::send(std::span<const std::uint8_t> data, const Endpoint& to) {
     return ::sendto(fd_, data.data(), data.size(), 0, reinterpret_cast<const sockaddr*>(&to.sa), to.len) ==
            static_cast<ssize_t>(data.size());
-}
-
-bool TokenBucket::take(std::uint64_t now_ms, double per_s, double burst) {
-    if (fresh) {
-        fresh = false;
-        tokens = burst;
-        last_ms = now_ms;
-    }
-    tokens = std::min(burst, tokens + static_cast<double>(now_ms - std::min(now_ms, last_ms)) * per_s / 1000.0);
-    last_ms = now_ms;
-    if (tokens < 1) return false;
-    tokens -= 1;
-    return true;
 }
 
 }  // namespace jetrace::rtc::detail

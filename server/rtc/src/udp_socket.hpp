@@ -44,13 +44,4 @@ private:
     std::uint16_t port_ = 0;
 };
 
-/// A token bucket on the caller's clock.
-struct TokenBucket {
-    double tokens = 0;
-    std::uint64_t last_ms = 0;
-    bool fresh = true;
-    /// Refills at `per_s` up to `burst`, then takes one token if there is one.
-    bool take(std::uint64_t now_ms, double per_s, double burst);
-};
-
 }  // namespace jetrace::rtc::detail
