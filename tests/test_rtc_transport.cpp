@@ -1,10 +1,11 @@
 // jetrace::rtc's WebRTC transport on a real UDP port, against a "browser"
 // made of jetrace::webrtc's blocks (STUN check, DTLS client, SCTP, DCEP
 // opens as Chromium sends them): the channels open into a connected event,
-// messages go both ways on their net::Channel, sizes over a channel's cap
-// are refused, bad offers get 400 with the reason, and 100 half-finished
-// handshakes from one address leave an honest browser from another address
-// able to connect, while the flooder is answered 503 beyond its cap.
+// messages go both ways on their net::Channel, an unreliable message too
+// large for one datagram goes whole on the reliable channel, bad offers get
+// 400 with the reason, 100 half-finished handshakes from one address leave
+// an honest browser from another address able to connect while the
+// flooder is answered 503 beyond its cap, and STUN floods are rate-limited.
 #include "jetrace/rtc/rtc_transport.hpp"
 #include "jetrace/webrtc/dcep.hpp"
 #include "jetrace/webrtc/dtls.hpp"
@@ -183,12 +184,19 @@ TEST(RtcTransport, ConnectsAndCarriesBothChannels) {
         EXPECT_EQ(e.channel, e.data == hello ? net::Channel::reliable : net::Channel::unreliable);
     }
     EXPECT_TRUE(f.t->send(peer, net::Channel::unreliable, Bytes(rtc::kMaxUnreliableBytes, 5)));
-    EXPECT_FALSE(f.t->send(peer, net::Channel::unreliable, Bytes(rtc::kMaxUnreliableBytes + 1, 5)));
+    // Too large for one datagram: whole, on the reliable channel (stream 2).
+    EXPECT_TRUE(f.t->send(peer, net::Channel::unreliable, Bytes(rtc::kMaxUnreliableBytes + 1, 7)));
     EXPECT_TRUE(f.t->send(peer, net::Channel::reliable, Bytes(6144 + 64, 6)));  // a TrackChunk
-    ASSERT_TRUE(f.run({&b}, 2000, [&] {
-        return std::count_if(b.received.begin(), b.received.end(), [](const auto& m) { return m.ppid == kPpidBinary; }) >= 2;
-    }));
-    EXPECT_EQ(rtc::rtc_stats(*f.t).oversize_refused, 1u);
+    EXPECT_FALSE(f.t->send(peer, net::Channel::reliable, Bytes(rtc::kMaxReliableBytes + 1, 6)));
+    const auto binary = [&] {
+        return std::count_if(b.received.begin(), b.received.end(), [](const auto& m) { return m.ppid == kPpidBinary; });
+    };
+    ASSERT_TRUE(f.run({&b}, 2000, [&] { return binary() >= 3; }));
+    for (const auto& m : b.received) {
+        if (m.ppid != kPpidBinary) continue;
+        EXPECT_EQ(m.stream, m.data.size() == rtc::kMaxUnreliableBytes ? 0 : 2) << m.data.size() << " bytes";
+    }
+    EXPECT_EQ(rtc::rtc_stats(*f.t).unreliable_sent_reliably, 1u);
     f.t->disconnect(peer);
     ASSERT_TRUE(f.run({&b}, 3000, [&] { return f.count(net::Event::Type::disconnected) == 1; }));
 }

@@ -101,7 +101,8 @@ struct Metrics::Impl {
     Counter& rtc_busy = rtc_refused.Add({{"reason", "busy"}});
     Counter& rtc_expired = rtc_refused.Add({{"reason", "pending_expired"}});
     Counter& rtc_rate_limited = rtc_refused.Add({{"reason", "rate_limited"}});
-    Counter& rtc_oversize = rtc_refused.Add({{"reason", "oversize_message"}});
+    Counter& rtc_sent_reliably = counter(registry, "jetrace_webrtc_unreliable_sent_reliably_total",
+                                    "Unreliable messages over 1072 bytes sent on the reliable data channel instead");
     prometheus::Family<Counter>& web_closed = prometheus::BuildCounter()
                                                   .Name("jetrace_websocket_closed_total")
                                                   .Help("Game WebSockets the server closed, by reason")
@@ -226,7 +227,7 @@ void Metrics::publish(const MetricsSample& s) {
     advance(m.rtc_busy, s.rtc.offers_refused_busy);
     advance(m.rtc_expired, s.rtc.pending_expired);
     advance(m.rtc_rate_limited, s.rtc.rate_limited);
-    advance(m.rtc_oversize, s.rtc.oversize_refused);
+    advance(m.rtc_sent_reliably, s.rtc.unreliable_sent_reliably);
     m.spectators.Set(spectating);
     m.observers.Set(s.observers);
     m.held.Set(held);

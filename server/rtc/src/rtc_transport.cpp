@@ -63,10 +63,12 @@ public:
         const auto it = sessions_.find(peer);
         if (it == sessions_.end() || !it->second.connected || it->second.closing) return false;
         RtcSession& s = it->second;
-        const std::size_t cap = channel == net::Channel::unreliable ? kMaxUnreliableBytes : kMaxReliableBytes;
-        if (data.size() > cap) {
-            signal_->count_oversize();
-            return false;
+        if (data.size() > kMaxReliableBytes) return false;
+        // Too large for one unfragmented datagram (a keyframe snapshot of
+        // a big race): sent whole on the reliable channel instead.
+        if (channel == net::Channel::unreliable && data.size() > kMaxUnreliableBytes) {
+            signal_->count_sent_reliably();
+            channel = net::Channel::reliable;
         }
         const auto stream = s.streams[static_cast<int>(channel)];
         if (!stream || s.channels->send(*stream, data) != webrtc::SctpSendResult::kSent) return false;

@@ -98,9 +98,9 @@ void SignalState::count_rate_limited(std::uint64_t n) {
     stats_.rate_limited += n;
 }
 
-void SignalState::count_oversize() {
+void SignalState::count_sent_reliably() {
     std::lock_guard lock(mutex_);
-    ++stats_.oversize_refused;
+    ++stats_.unreliable_sent_reliably;
 }
 
 RtcStats SignalState::stats() const {

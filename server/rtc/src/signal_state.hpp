@@ -38,7 +38,7 @@ public:
     void close();
 
     void count_rate_limited(std::uint64_t n);
-    void count_oversize();
+    void count_sent_reliably();
     RtcStats stats() const;
 
 private:

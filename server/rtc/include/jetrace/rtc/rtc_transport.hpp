@@ -64,10 +64,13 @@ inline constexpr net::PeerId kRtcPeerBase = 0x60000000u;
 /// The largest message sent on the unreliable channel (unit: bytes): one
 /// SCTP DATA chunk in one packet of SctpSettings::mtu_bytes (1,100 less the
 /// 12-byte common header and the 16-byte DATA chunk header), so that a
-/// snapshot is never split into SCTP fragments. Larger ones: send() false.
+/// snapshot is never split into SCTP fragments. A larger one (a keyframe
+/// snapshot of more than about 20 cars) goes whole on the reliable channel,
+/// counted in RtcStats::unreliable_sent_reliably.
 inline constexpr std::size_t kMaxUnreliableBytes = 1072;
 /// The largest message on the reliable channel (unit: bytes): SCTP splits
-/// it into packets of at most 1,100 bytes (TrackChunk: 6 KiB).
+/// it into packets of at most 1,100 bytes (TrackChunk: 6 KiB). Larger ones
+/// (none: the protocol's messages are at most 8 KiB): send() false.
 inline constexpr std::size_t kMaxReliableBytes = 16 * 1024;
 
 /// What POST /rtc answers.
@@ -94,7 +97,7 @@ struct RtcStats {
     std::uint64_t offers_refused_busy = 0;  ///< 503
     std::uint64_t pending_expired = 0;      ///< answered, no channels within pending_timeout_ms
     std::uint64_t rate_limited = 0;         ///< STUN or DTLS handshake datagrams over a bucket
-    std::uint64_t oversize_refused = 0;     ///< send() of a message over a channel's size
+    std::uint64_t unreliable_sent_reliably = 0;  ///< unreliable messages over kMaxUnreliableBytes
     std::uint64_t sessions_open = 0;
 };
 
