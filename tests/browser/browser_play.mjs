@@ -66,6 +66,9 @@ try {
   const gauge = (t) => Number((metrics.match(new RegExp(`jetrace_transport_players\\{transport="${t}"\\} (\\S+)`)) || [])[1]);
   check(gauge(expected) === 1 && gauge('enet') === 2,
     `the metrics count 1 player over ${expected} and 2 over ENet (${gauge(expected)}, ${gauge('enet')})`);
+  const status = await (await fetch(metricsUrl.replace(/\/metrics$/, '/status'))).json();
+  const human = status.players.find((p) => p.name === 'human');
+  check(human && human.transport === expected, `/status names the page's transport (${human && human.transport})`);
   const hud = await driver.evaluate(() => document.getElementById('hud-net').textContent);
   check(hud.startsWith(hudName + ' ·'), `the HUD shows the transport: "${hud}"`);
 
