@@ -46,7 +46,7 @@ bool apply_web(const WebFlags& f, std::size_t pending_cap, std::optional<web::We
     if (f.web.empty()) {
         if (!f.origins.empty() || !f.cert_file.empty() || !f.key_file.empty() || f.webrtc_port >= 0 ||
             !f.webrtc_address.empty() || f.webrtc_candidate_port != 0 || f.no_webrtc) {
-            std::fprintf(stderr, "jetrace-server: --web-origin, --web-cert, --web-key and --webrtc-* need --web\n");
+            std::fprintf(stderr, "jetrace-server: --web-origin, --web-cert, --web-key and the --webrtc flags need --web\n");
             return false;
         }
         return true;
