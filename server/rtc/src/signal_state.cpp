@@ -40,6 +40,10 @@ RtcReply SignalState::offer(std::string_view sdp, const std::string& address, co
     s.ice = webrtc::make_ice_credentials(random_bytes);
     s.fingerprint = fingerprint_;
     s.candidate_ip = config_.candidate_ip.empty() ? local_ip : config_.candidate_ip;
+    // A dual-stack web port sees IPv4 pages as ::ffff:a.b.c.d: answer with a.b.c.d.
+    if (s.candidate_ip.rfind("::ffff:", 0) == 0 && s.candidate_ip.find('.') != std::string::npos) {
+        s.candidate_ip.erase(0, 7);
+    }
     s.candidate_port = config_.candidate_port != 0 ? config_.candidate_port : port_;
     s.max_message_size = static_cast<std::uint32_t>(kMaxReliableBytes);
     std::uint8_t id[8];
