@@ -87,10 +87,17 @@ const hooks = {
 // both are open; their messages become frames of the socket riding them.
 function adoptChannels(list) {
   channels = list;
-  let open = 0;
+  const open = new Set();
+  const opened = (channel) => {
+    if (open.has(channel)) return;
+    open.add(channel);
+    if (open.size === channels.length) postMessage({ type: 'rtc-opened' });
+  };
   channels.forEach((c, channel) => {
     c.binaryType = 'arraybuffer';
-    c.onopen = () => { if (++open === channels.length) postMessage({ type: 'rtc-opened' }); };
+    c.onopen = () => opened(channel);
+    // Already open when this worker took it (its open event not seen here).
+    if (c.readyState === 'open') opened(channel);
     c.onclose = () => { postMessage({ type: 'rtc-close' }); rtcClosed(); };
     c.onmessage = (e) => {
       if (!(e.data instanceof ArrayBuffer) || rtcId === null || !rtcOpen) return;
