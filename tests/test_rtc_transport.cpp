@@ -202,6 +202,33 @@ TEST(RtcTransport, ConnectsAndCarriesBothChannels) {
     ASSERT_TRUE(f.run({&b}, 3000, [&] { return f.count(net::Event::Type::disconnected) == 1; }));
 }
 
+// Junk on the UDP port, from another address and from the browser's own
+// (DTLS-looking records that are no records of its session, truncated STUN),
+// is dropped: the session goes on.
+TEST(RtcTransport, JunkDatagramsLeaveTheSessionAlone) {
+    Fixture f;
+    Browser b("127.0.0.1");
+    const net::PeerId peer = connect(f, b, "127.0.0.1");
+    ASSERT_GE(peer, rtc::kRtcPeerBase);
+    Browser other("127.0.0.1");
+    other.server = b.server;
+    std::uint32_t x = 33;
+    for (int i = 0; i < 2000; ++i) {
+        Bytes junk(1 + (x % 1400));
+        for (auto& byte : junk) byte = static_cast<std::uint8_t>((x = x * 1664525u + 1013904223u) >> 24);
+        if (i % 3 == 0) junk[0] = static_cast<std::uint8_t>(20 + i % 44);  // DTLS-looking
+        if (i % 3 == 1 && junk.size() >= 20) {                             // STUN-looking
+            junk[0] = 0;
+            junk[4] = 0x21, junk[5] = 0x12, junk[6] = 0xA4, junk[7] = 0x42;
+        }
+        (i % 2 == 0 ? other : b).put(junk);
+        if (i % 100 == 0) f.t->service(f.now++, f.events);
+    }
+    b.sctp->send(2, kPpidBinary, Bytes{4, 2});
+    ASSERT_TRUE(f.run({&b}, 3000, [&] { return f.count(net::Event::Type::received) > 0; }));
+    EXPECT_EQ(f.count(net::Event::Type::disconnected), 0);
+}
+
 TEST(RtcTransport, RefusesBadOffers) {
     Fixture f;
     const auto reply = [&](const std::string& sdp) { return f.signal->offer(sdp, "10.0.0.1", "127.0.0.1"); };
