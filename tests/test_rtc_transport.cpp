@@ -6,7 +6,6 @@
 // 400 with the reason, 100 half-finished handshakes from one address leave
 // an honest browser from another address able to connect while the
 // flooder is answered 503 beyond its cap, and STUN floods are rate-limited.
-#include "jetrace/net/mux_transport.hpp"
 #include "jetrace/rtc/rtc_transport.hpp"
 #include "jetrace/webrtc/dcep.hpp"
 #include "jetrace/webrtc/dtls.hpp"
@@ -275,34 +274,4 @@ TEST(RtcTransport, RateLimitsStunPerAddress) {
     for (int i = 0; i < 300; ++i) b.put(check);
     f.t->service(f.now, f.events);
     EXPECT_GE(rtc::rtc_stats(*f.t).rate_limited, 150u);
-}
-
-namespace {
-
-// A transport that only has totals (bytes_sent = `n`).
-struct Counted final : net::Transport {
-    explicit Counted(std::uint64_t n) { t.bytes_sent = n; }
-    void service(std::uint64_t, std::vector<net::Event>&) override {}
-    bool send(net::PeerId, net::Channel, std::span<const std::uint8_t>) override { return true; }
-    void disconnect(net::PeerId) override {}
-    void flush() override {}
-    net::PeerStats peer_stats(net::PeerId) const override { return {}; }
-    net::Totals totals() const override { return t; }
-    std::uint16_t local_port() const override { return 0; }
-    net::Totals t;
-};
-
-}  // namespace
-
-// jetrace-server's transport with --web: ENet, WebSocket and WebRTC, nested.
-TEST(RtcTransport, NestedCombineNamesEachPart) {
-    auto both = net::combine(std::make_unique<Counted>(1), std::make_unique<Counted>(2), 0x40000000u);
-    auto all = net::combine(std::move(both), std::make_unique<Counted>(4), rtc::kRtcPeerBase, "webrtc");
-    EXPECT_EQ(net::transport_of(*all, 5), "enet");
-    EXPECT_EQ(net::transport_of(*all, 0x40000001u), "websocket");
-    EXPECT_EQ(net::transport_of(*all, rtc::kRtcPeerBase + 3), "webrtc");
-    EXPECT_EQ(net::part_totals(*all, "enet").bytes_sent, 1u);
-    EXPECT_EQ(net::part_totals(*all, "websocket").bytes_sent, 2u);
-    EXPECT_EQ(net::part_totals(*all, "webrtc").bytes_sent, 4u);
-    EXPECT_EQ(all->totals().bytes_sent, 7u);
 }
