@@ -50,6 +50,8 @@ struct Host {
     std::unique_ptr<net::Transport> transport;
     /// --web: the WebSocket transport inside `transport`.
     const net::Transport* web = nullptr;
+    /// --web: the WebRTC data-channel transport inside `transport` (or null).
+    const net::Transport* rtc = nullptr;
     std::unique_ptr<ops::Metrics> metrics;
     std::unique_ptr<ops::AgonesClient> agones;
     /// --record: the replay of each race.
@@ -71,6 +73,7 @@ struct Host {
         sample.replay_failures = replay_failures();
         sample.replay_bytes_written = recorder ? recorder->bytes_written() : 0;
         if (web) sample.web = web::web_stats(*web);
+        if (rtc) sample.rtc = rtc::rtc_stats(*rtc);
         metrics->publish(sample);
     }
 };
@@ -140,7 +143,7 @@ bool open_host(const server::HostOptions& o, Host& host) {
     }
     std::printf("listening on %s:%u\n", o.net_cfg.bind.c_str(), host.transport->local_port());
     if (o.web) {
-        host.transport = server::open_web(*o.web, std::move(host.transport), host.web);
+        host.transport = server::open_web(*o.web, o.rtc, std::move(host.transport), host.web, host.rtc);
         if (!host.transport) return false;
     }
     if (!o.hosting.metrics_host.empty()) {

@@ -35,6 +35,8 @@ struct HostOptions {
     Hosting hosting;
     /// --web: the game page and browser players (none: ENet only).
     std::optional<web::WebConfig> web;
+    /// --web without --no-webrtc: browsers' WebRTC data channels.
+    std::optional<rtc::RtcConfig> rtc;
 };
 
 /// Parses the command line. -1: go on; else the exit code (0 for --help).

@@ -7,8 +7,8 @@ namespace {
 
 class MuxTransport final : public Transport {
 public:
-    MuxTransport(std::unique_ptr<Transport> first, std::unique_ptr<Transport> second, PeerId base)
-        : first_(std::move(first)), second_(std::move(second)), base_(base) {
+    MuxTransport(std::unique_ptr<Transport> first, std::unique_ptr<Transport> second, PeerId base, std::string name)
+        : first_(std::move(first)), second_(std::move(second)), base_(base), name_(std::move(name)) {
         assert(first_ && second_ && base_ > 0);
     }
 
@@ -40,6 +40,7 @@ public:
 
     bool second(PeerId peer) const { return peer >= base_; }
     const Transport& part(int index) const { return index == 0 ? *first_ : *second_; }
+    const std::string& name() const { return name_; }
 
 private:
     Transport& part(PeerId peer) { return second(peer) ? *second_ : *first_; }
@@ -47,23 +48,26 @@ private:
 
     std::unique_ptr<Transport> first_, second_;
     PeerId base_;
+    std::string name_;
 };
 
 }  // namespace
 
 std::unique_ptr<Transport> combine(std::unique_ptr<Transport> first, std::unique_ptr<Transport> second,
-                                   PeerId second_base) {
-    return std::make_unique<MuxTransport>(std::move(first), std::move(second), second_base);
+                                   PeerId second_base, std::string second_name) {
+    return std::make_unique<MuxTransport>(std::move(first), std::move(second), second_base, std::move(second_name));
 }
 
 std::string transport_of(const Transport& transport, PeerId peer) {
     const auto* mux = dynamic_cast<const MuxTransport*>(&transport);
-    return mux != nullptr && mux->second(peer) ? "websocket" : "enet";
+    if (mux == nullptr) return "enet";
+    return mux->second(peer) ? mux->name() : transport_of(mux->part(0), peer);
 }
 
-Totals part_totals(const Transport& transport, int index) {
-    if (const auto* mux = dynamic_cast<const MuxTransport*>(&transport)) return mux->part(index).totals();
-    return index == 0 ? transport.totals() : Totals{};
+Totals part_totals(const Transport& transport, const std::string& name) {
+    const auto* mux = dynamic_cast<const MuxTransport*>(&transport);
+    if (mux == nullptr) return name == "enet" ? transport.totals() : Totals{};
+    return mux->name() == name ? mux->part(1).totals() : part_totals(mux->part(0), name);
 }
 
 }  // namespace jetrace::net

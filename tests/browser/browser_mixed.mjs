@@ -24,7 +24,7 @@ async function race(page, name) {
     if (mine && mine.finished) {
       await hold(page, held, new Set());
       const n = s.net;
-      return { name, finished: true, time_s: mine.finish_s, corrections: n.corrections, late_inputs: n.late_inputs,
+      return { name, finished: true, transport: s.transport, time_s: mine.finish_s, corrections: n.corrections, late_inputs: n.late_inputs,
         drawn_checked: n.drawn_checked, drawn_off: n.drawn_off, drawn_off_unexplained: n.drawn_off_unexplained };
     }
     await hold(page, held, keysFor(car, gates));
@@ -46,6 +46,9 @@ try {
   const results = await Promise.all(pages.map((p, i) => race(p, 'page' + i)));
   for (const r of results) console.log(JSON.stringify(r));
   check(results.every((r) => r.finished), `every page finished (${results.filter((r) => r.finished).length} of ${results.length})`);
+  // 4 pages from one address: within the data channel's pending cap (4).
+  check(results.every((r) => r.transport === 'webrtc'),
+    `every page raced over its WebRTC data channel (${results.map((r) => r.transport).join(', ')})`);
   check(results.every((r) => r.drawn_checked > 100 && r.drawn_off_unexplained === 0),
     'every page drew its car where the server had it but near another car or after a late input');
 } finally {

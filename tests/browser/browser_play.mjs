@@ -6,12 +6,19 @@
 // the refusal's reason.
 // The ticks whose drawn position the page compared with the server's go to
 // SAMPLES.json, for browser_play.sh to check against the recording.
-// Usage: node browser_play.mjs BASE_URL SHOT.png METRICS_URL SAMPLES.json
+// TRANSPORT: the page's transport the test expects ("websocket": the page
+// is told ?transport=websocket; "webrtc": it prefers the data channel;
+// "fallback": the data channel cannot connect and the page falls back to
+// the WebSocket).
+// Usage: node browser_play.mjs BASE_URL SHOT.png METRICS_URL SAMPLES.json [TRANSPORT]
 import { writeFileSync } from 'node:fs';
 import { check, distinctColours, launchChromium } from './page_checks.mjs';
 import { hold, keysFor } from './drive_keys.mjs';
 
-const [base, shotPath, metricsUrl, samplesPath] = process.argv.slice(2);
+const [base, shotPath, metricsUrl, samplesPath, mode = 'websocket'] = process.argv.slice(2);
+const expected = mode === 'webrtc' ? 'webrtc' : 'websocket';
+const transportQuery = mode === 'websocket' ? '&transport=websocket' : '';
+const hudName = { webrtc: 'WebRTC', websocket: 'WebSocket' }[expected];
 const guard = { timeout: 90000 };  // a bound on waiting, not a timed assertion
 
 const state = (page) => page.evaluate(() => window.jetrace.state());
@@ -20,7 +27,7 @@ const own = (s) => s.cars.find((c) => c.slot === s.ownSlot);
 async function open(browser, query) {
   const page = await browser.newPage();
   page.on('pageerror', (e) => console.log(`page ${query} error: ${e.message}`));
-  await page.goto(base + query, { waitUntil: 'load' });
+  await page.goto(base + query + transportQuery, { waitUntil: 'load' });
   return page;
 }
 
@@ -33,6 +40,8 @@ try {
   let s = await state(driver);
   console.log(`page ready (track drawn, first frame) ${Date.now() - opened} ms after opening the URL`);
   check(s.source === 'client', 'the page runs the WebAssembly client');
+  check(s.transport === expected, `the page races over ${expected} (${s.transport}${s.transportWhy ? ': ' + s.transportWhy : ''})`);
+  if (expected === 'webrtc') check(s.rtcMode === 'worker', `the data channels moved to the worker (${s.rtcMode})`);
   check(s.mode === 'drive' && s.ownSlot >= 0, `drive mode, the own car's slot ${s.ownSlot}`);
   const gates = await driver.evaluate(() => window.jetrace.gates());
   check(gates.length > 1, `the page has the track's gates (${gates.length})`);
@@ -55,8 +64,13 @@ try {
     'the standings name both bots');
   const metrics = await (await fetch(metricsUrl)).text();
   const gauge = (t) => Number((metrics.match(new RegExp(`jetrace_transport_players\\{transport="${t}"\\} (\\S+)`)) || [])[1]);
-  check(gauge('websocket') === 1 && gauge('enet') === 2,
-    `the metrics count 1 player over WebSocket and 2 over ENet (${gauge('websocket')}, ${gauge('enet')})`);
+  check(gauge(expected) === 1 && gauge('enet') === 2,
+    `the metrics count 1 player over ${expected} and 2 over ENet (${gauge(expected)}, ${gauge('enet')})`);
+  const status = await (await fetch(metricsUrl.replace(/\/metrics$/, '/status'))).json();
+  const human = status.players.find((p) => p.name === 'human');
+  check(human && human.transport === expected, `/status names the page's transport (${human && human.transport})`);
+  const hud = await driver.evaluate(() => document.getElementById('hud-net').textContent);
+  check(hud.startsWith(hudName + ' ·'), `the HUD shows the transport: "${hud}"`);
 
   const held = new Set();
   let top = 0, steps = 0;

@@ -10,9 +10,15 @@
 # refused (the race is full) and shows the reason; the metrics count the
 # page's player under transport="websocket". The server's results
 # must list the page's player as finished, and its replay must verify.
-# Usage: browser_play.sh SERVER SIM BOT SOURCE_DIR
+# MODE (docs/BROWSER.md, "Transports"): websocket (the default: the page is
+# told ?transport=websocket), webrtc (the page's preferred WebRTC data
+# channel: the metrics count it under transport="webrtc"), or fallback (the
+# server's SDP answer names a UDP port nothing listens on, as when a
+# firewall drops the page's UDP: its ICE fails and it races over the
+# WebSocket after its wait, and shows it).
+# Usage: browser_play.sh SERVER SIM BOT SOURCE_DIR [MODE]
 set -euo pipefail
-server="$1" sim="$2" bot="$3" src="$4"
+server="$1" sim="$2" bot="$3" src="$4" mode="${5:-websocket}"
 . "$src/tools/server_port.sh"
 [ -d "$src/node_modules/puppeteer-core" ] || { echo "no puppeteer-core in $src/node_modules: run npm ci there (tools/setup.sh does)"; exit 1; }
 [ -x /usr/bin/chromium ] || { echo "no /usr/bin/chromium: apt-get install chromium (tools/setup.sh does)"; exit 1; }
@@ -24,7 +30,13 @@ cleanup() {
 }
 trap cleanup EXIT
 
-"$server" --bind 127.0.0.1 --port 0 --web 127.0.0.1:0 --metrics 127.0.0.1:0 --track ring --laps 1 --min-players 3 --max-players 3 \
+rtc_flags=()
+if [ "$mode" = fallback ]; then
+  # A UDP port bound and released: nothing listens there.
+  closed="$(python3 -c 'import socket; s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')"
+  rtc_flags=(--webrtc-candidate-port "$closed")
+fi
+"$server" --bind 127.0.0.1 --port 0 --web 127.0.0.1:0 "${rtc_flags[@]}" --metrics 127.0.0.1:0 --track ring --laps 1 --min-players 3 --max-players 3 \
   --races 1 --lobby-timeout 60 --countdown 5 --finish-window 120 --results "$out/results.json" \
   --record "$out/race.jtr" >"$out/server.log" 2>&1 &
 spid=$!
@@ -37,7 +49,7 @@ bpid=$!
 echo "server: ENet port $port, web port $web"
 
 node "$src/tests/browser/browser_play.mjs" "http://127.0.0.1:$web/" "$out/shot.png" "http://$metrics/metrics" \
-  "$out/drawn.json" ||
+  "$out/drawn.json" "$mode" ||
   { echo "--- server log:"; cat "$out/server.log"; exit 1; }
 
 rc=0; timeout 60 tail --pid="$spid" -f /dev/null || rc=$?

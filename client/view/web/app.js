@@ -196,7 +196,9 @@ window.jetrace = {
     standings: state.frame ? state.frame.standings : [],
     mode: state.hello ? state.hello.mode : null, ownSlot: state.frame ? state.frame.own_slot : null,
     countdown: state.frame ? state.frame.countdown_s : null, keys: keys ? keys.current() : null,
-    source: source.kind, driver: state.hello ? state.hello.driver : null,
+    source: source.kind, transport: source.transport ? source.transport() : null,
+    transportWhy: source.transportWhy ? source.transportWhy() : null,
+    rtcMode: source.rtcMode ? source.rtcMode() : null, driver: state.hello ? state.hello.driver : null,
     net: state.frame && state.frame.net ? state.frame.net : null,
     closeText: state.closeText || null, traffic: source.stats(),
     // ms from navigation start to the first draw of the track with a frame.

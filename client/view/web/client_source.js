@@ -16,12 +16,32 @@ function gamepadInput() {
   return null;
 }
 
-// options: {name, watch, token (hex)}.
+import { openRtcLink } from './rtc_link.js';
+
+/// How long the data channels may take to open before the page races over
+/// the WebSocket instead (unit: ms).
+const kRtcOpenMs = 3000;
+
+// Which transport the worker's socket uses: the WebRTC data channels when
+// they open in time, else the WebSocket (docs/BROWSER.md). ?transport=websocket
+// goes straight to the WebSocket.
+async function chooseTransport(options, worker) {
+  if (options.transport === 'websocket') return { name: 'websocket', why: 'asked for (?transport=websocket)' };
+  try {
+    return { name: 'webrtc', link: await openRtcLink(kRtcOpenMs, worker) };
+  } catch (e) {
+    console.log('jetrace: no WebRTC data channel (' + e.message + '): racing over the WebSocket');
+    return { name: 'websocket', why: e.message };
+  }
+}
+
+// options: {name, watch, token (hex), transport ('websocket' or null)}.
 export function clientSource(options) {
   const handlers = { open() {}, close() {}, message() {} };
   const worker = new Worker('/client_worker.js', { type: 'module' });
   let traffic = { bytes_down: 0, bytes_up: 0, frames_down: 0, frames_up: 0 };
   let trackWaiter = null;
+  let transport = null;
   const input = { keys: { up: false, left: false, right: false, brake: false }, pad: null };
   let sent = '';
   const post = () => {
@@ -37,9 +57,14 @@ export function clientSource(options) {
     else if (m.type === 'message') handlers.message(m.text);
     else if (m.type === 'close') handlers.close(m.text);
     else if (m.type === 'track' && trackWaiter) trackWaiter(m.bytes);
+    else if (m.type === 'rtc-send' && transport && transport.link) transport.link.send(m.frame);
+    else if (m.type === 'rtc-leave' && transport && transport.link) transport.link.close();
   };
   worker.onerror = (e) => handlers.close('the WebAssembly client failed: ' + (e.message || 'error'));
-  worker.postMessage({ type: 'start', options });
+  chooseTransport(options, worker).then((t) => {
+    transport = t;
+    worker.postMessage({ type: 'start', options, transport: t.name });
+  });
   setInterval(() => { input.pad = gamepadInput(); post(); }, 8);
   window.addEventListener('pagehide', () => worker.postMessage({ type: 'leave' }));
   return {
@@ -53,5 +78,10 @@ export function clientSource(options) {
     sendRaw() {},
     trackBytes: () => new Promise((resolve) => { trackWaiter = resolve; worker.postMessage({ type: 'track' }); }),
     stats: () => ({ ...traffic }),
+    // 'webrtc' or 'websocket' once chosen, else null.
+    transport: () => (transport ? transport.name : null),
+    transportWhy: () => (transport && transport.why) || null,
+    // 'worker' (the channels moved to the worker) or 'relay' (this thread carries them).
+    rtcMode: () => (transport && transport.link ? transport.link.mode : null),
   };
 }

@@ -9,31 +9,59 @@ import createJetrace from '/jetrace_web.js';
 import { closeText } from './close_text.js';
 
 const sockets = new Map();
+// 'webrtc': the socket rides the page's data channels (rtc_link.js):
+// `channels` when the page moved them here, else the page relays frames.
+// rtcId: the id of the socket riding them, while they are open.
+let transport = 'websocket', rtcId = null, rtcOpen = false, channels = null;
 const traffic = { bytes_down: 0, bytes_up: 0, frames_down: 0, frames_up: 0 };
 let M = null;
 let input = { keys: { up: false, left: false, right: false, brake: false }, pad: null };
 let hello = false, closed = false, lastTick = -2, lastFrameAt = 0;
 
+function received(id, buffer) {
+  const bytes = new Uint8Array(buffer);
+  traffic.bytes_down += bytes.length;
+  traffic.frames_down++;
+  const p = M._malloc(bytes.length);
+  M.HEAPU8.set(bytes, p);
+  M._jr_socket_frame(id, p, bytes.length);
+  M._free(p);
+}
+
 const hooks = {
   open(id) {
+    if (transport === 'webrtc' && rtcOpen && rtcId === null) {
+      rtcId = id;
+      setTimeout(() => { M._jr_socket_opened(id); step(); }, 0);
+      return;
+    }
     const scheme = self.location.protocol === 'https:' ? 'wss://' : 'ws://';
     const ws = new WebSocket(scheme + self.location.host + '/play');
     ws.binaryType = 'arraybuffer';
     sockets.set(id, ws);
     ws.onopen = () => { M._jr_socket_opened(id); step(); };
     ws.onmessage = (e) => {
-      if (!(e.data instanceof ArrayBuffer)) return;
-      const bytes = new Uint8Array(e.data);
-      traffic.bytes_down += bytes.length;
-      traffic.frames_down++;
-      const p = M._malloc(bytes.length);
-      M.HEAPU8.set(bytes, p);
-      M._jr_socket_frame(id, p, bytes.length);
-      M._free(p);
+      if (e.data instanceof ArrayBuffer) received(id, e.data);
     };
     ws.onclose = (e) => { sockets.delete(id); M._jr_socket_closed(id, e.code); step(); };
   },
   send(id, channel, bytes) {
+    if (id === rtcId) {
+      if (!rtcOpen) return false;
+      if (channels) {
+        const c = channels[channel];
+        if (!c || c.readyState !== 'open') return false;
+        c.send(bytes.slice());  // a copy: `bytes` views the WebAssembly heap
+      } else {
+        const frame = new Uint8Array(bytes.length + 1);
+        frame[0] = channel;
+        frame.set(bytes, 1);
+        postMessage({ type: 'rtc-send', frame: frame.buffer }, [frame.buffer]);
+      }
+      traffic.bytes_up += bytes.length + 1;
+      traffic.frames_up++;
+      return true;
+    }
     const ws = sockets.get(id);
     if (!ws || ws.readyState !== WebSocket.OPEN) return false;
     const frame = new Uint8Array(bytes.length + 1);
@@ -45,10 +73,50 @@ const hooks = {
     return true;
   },
   close(id) {
+    if (id === rtcId) {
+      if (channels) channels.forEach((c) => c.close());
+      postMessage({ type: 'rtc-leave' });
+      return;
+    }
     const ws = sockets.get(id);
     if (ws) ws.close(1000);
   },
 };
+
+// The data channels, moved here by the page: "rtc-opened" to the page when
+// both are open; their messages become frames of the socket riding them.
+function adoptChannels(list) {
+  channels = list;
+  const open = new Set();
+  const opened = (channel) => {
+    if (open.has(channel)) return;
+    open.add(channel);
+    if (open.size === channels.length) postMessage({ type: 'rtc-opened' });
+  };
+  channels.forEach((c, channel) => {
+    c.binaryType = 'arraybuffer';
+    c.onopen = () => opened(channel);
+    // Already open when this worker took it (its open event not seen here).
+    if (c.readyState === 'open') opened(channel);
+    c.onclose = () => { postMessage({ type: 'rtc-close' }); rtcClosed(); };
+    c.onmessage = (e) => {
+      if (!(e.data instanceof ArrayBuffer) || rtcId === null || !rtcOpen) return;
+      const frame = new Uint8Array(e.data.byteLength + 1);
+      frame[0] = channel;
+      frame.set(new Uint8Array(e.data), 1);
+      received(rtcId, frame.buffer);
+    };
+  });
+}
+
+function rtcClosed() {
+  if (!rtcOpen) return;
+  rtcOpen = false;
+  if (rtcId !== null) {
+    M._jr_socket_closed(rtcId, 1006);
+    step();
+  }
+}
 
 function step() {
   const { keys, pad } = input;
@@ -98,7 +166,16 @@ async function start(options) {
 
 self.onmessage = (e) => {
   const m = e.data;
-  if (m.type === 'start') start(m.options);
+  if (m.type === 'start') {
+    transport = m.transport;
+    rtcOpen = transport === 'webrtc';
+    start(m.options);
+  } else if (m.type === 'rtc-channels') adoptChannels(m.channels);
+  else if (m.type === 'rtc-drop' && channels) {
+    channels.forEach((c) => c.close());
+    channels = null;
+  } else if (m.type === 'rtc-frame' && rtcId !== null && rtcOpen) received(rtcId, m.frame);
+  else if (m.type === 'rtc-close') rtcClosed();
   else if (m.type === 'input') input = m.input;
   else if (m.type === 'track') {
     const bytes = trackBytes();

@@ -25,7 +25,8 @@ export function readToken(text) {
 function joinOptions() {
   const q = new URLSearchParams(location.search);
   const fragment = new URLSearchParams(location.hash.slice(1));
-  const o = { name: q.get('name'), watch: q.has('watch'), token: '', tokenError: null };
+  const o = { name: q.get('name'), watch: q.has('watch'), token: '', tokenError: null,
+    transport: q.get('transport') === 'websocket' ? 'websocket' : null };
   const text = fragment.get('token');
   if (text !== null) {
     const t = readToken(text);
@@ -36,11 +37,15 @@ function joinOptions() {
   return o;
 }
 
+// How the HUD names the page's transport (client_source.js chooses it).
+const kTransportNames = { webrtc: 'WebRTC', websocket: 'WebSocket' };
+
 export class Hud {
   constructor() {
     this.hello = null;
     this.lap = null;
     this.lapStart = 0;
+    this.source = null;
   }
 
   // Resolves with the client source once the player chose a name (or the URL did).
@@ -65,7 +70,8 @@ export class Hud {
     if (o.name === null) o.name = 'watcher';
     $('track').textContent = 'joining…';
     const { clientSource } = await import('./client_source.js');
-    return clientSource(o);
+    this.source = clientSource(o);
+    return this.source;
   }
 
   setHello(h) {
@@ -86,7 +92,8 @@ export class Hud {
     }
     if (row) $('hud-pos').textContent = 'P' + row.pos + '/' + f.standings.length;
     if (f.net) {
-      $('hud-net').textContent = 'rtt ' + Math.round(f.net.rtt_ms) + ' ms' +
+      const t = this.source ? this.source.transport() : null;
+      $('hud-net').textContent = (t ? kTransportNames[t] + ' · ' : '') + 'rtt ' + Math.round(f.net.rtt_ms) + ' ms' +
         (f.net.corrections ? ' · ' + f.net.corrections + ' corrections (largest ' + f.net.max_correction_m.toFixed(2) + ' m)' : '');
     }
     $('hud-countdown').textContent = f.countdown_s !== null && f.countdown_s !== undefined ? Math.ceil(f.countdown_s) : '';

@@ -76,6 +76,7 @@ struct Metrics::Impl {
                                                           .Register(registry);
     Gauge& players_enet = players_by_transport.Add({{"transport", "enet"}});
     Gauge& players_websocket = players_by_transport.Add({{"transport", "websocket"}});
+    Gauge& players_webrtc = players_by_transport.Add({{"transport", "webrtc"}});
     prometheus::Family<Counter>& transport_bytes_out = prometheus::BuildCounter()
                                                            .Name("jetrace_transport_bytes_sent_total")
                                                            .Help("Bytes sent, by transport (ENet datagrams, WebSocket frames)")
@@ -86,9 +87,22 @@ struct Metrics::Impl {
                                                           .Register(registry);
     Counter& enet_out = transport_bytes_out.Add({{"transport", "enet"}});
     Counter& websocket_out = transport_bytes_out.Add({{"transport", "websocket"}});
+    Counter& webrtc_out = transport_bytes_out.Add({{"transport", "webrtc"}});
     Counter& enet_in = transport_bytes_in.Add({{"transport", "enet"}});
     Counter& websocket_in = transport_bytes_in.Add({{"transport", "websocket"}});
+    Counter& webrtc_in = transport_bytes_in.Add({{"transport", "webrtc"}});
     Gauge& web_sockets = gauge(registry, "jetrace_websocket_sockets", "Open game WebSockets (--web)");
+    Gauge& rtc_sessions = gauge(registry, "jetrace_webrtc_sessions", "WebRTC data-channel sessions, pending ones included");
+    prometheus::Family<Counter>& rtc_refused = prometheus::BuildCounter()
+                                                   .Name("jetrace_webrtc_refused_total")
+                                                   .Help("WebRTC offers and datagrams refused, by reason")
+                                                   .Register(registry);
+    Counter& rtc_bad_offer = rtc_refused.Add({{"reason", "bad_offer"}});
+    Counter& rtc_busy = rtc_refused.Add({{"reason", "busy"}});
+    Counter& rtc_expired = rtc_refused.Add({{"reason", "pending_expired"}});
+    Counter& rtc_rate_limited = rtc_refused.Add({{"reason", "rate_limited"}});
+    Counter& rtc_sent_reliably = counter(registry, "jetrace_webrtc_unreliable_sent_reliably_total",
+                                    "Unreliable messages over 1072 bytes sent on the reliable data channel instead");
     prometheus::Family<Counter>& web_closed = prometheus::BuildCounter()
                                                   .Name("jetrace_websocket_closed_total")
                                                   .Help("Game WebSockets the server closed, by reason")
@@ -172,7 +186,7 @@ void Metrics::publish(const MetricsSample& s) {
     j["races_finished"] = s.counters.races_finished;
     j["observers"] = s.observers;
     j["players"] = nlohmann::json::array();
-    int connected = 0, spectating = 0, held = 0, websocket = 0;
+    int connected = 0, spectating = 0, held = 0, websocket = 0, webrtc = 0;
     for (const auto& p : s.players) {
         j["players"].push_back({{"slot", p.slot},
                                 {"name", p.name},
@@ -182,6 +196,7 @@ void Metrics::publish(const MetricsSample& s) {
                                 {"finished", p.finished},
                                 {"transport", p.transport}});
         websocket += p.connected && p.transport == "websocket" ? 1 : 0;
+        webrtc += p.connected && p.transport == "webrtc" ? 1 : 0;
         connected += p.connected ? 1 : 0;
         spectating += p.connected && p.spectating ? 1 : 0;
         held += p.connected ? 0 : 1;
@@ -192,18 +207,27 @@ void Metrics::publish(const MetricsSample& s) {
     std::lock_guard lock(m.mutex);
     m.status = std::move(status);
     m.players.Set(connected);
-    m.players_enet.Set(connected - websocket);
+    m.players_enet.Set(connected - websocket - webrtc);
     m.players_websocket.Set(websocket);
+    m.players_webrtc.Set(webrtc);
     advance(m.enet_out, s.traffic_enet.bytes_sent);
     advance(m.enet_in, s.traffic_enet.bytes_received);
     advance(m.websocket_out, s.traffic_websocket.bytes_sent);
     advance(m.websocket_in, s.traffic_websocket.bytes_received);
+    advance(m.webrtc_out, s.traffic_webrtc.bytes_sent);
+    advance(m.webrtc_in, s.traffic_webrtc.bytes_received);
     m.web_sockets.Set(static_cast<double>(s.web.open_sockets));
     advance(m.web_queue_full, s.web.send_queue_drops);
     advance(m.web_malformed, s.web.malformed_drops);
     advance(m.web_origin, s.web.origin_refusals);
     advance(m.web_full, s.web.full_refusals);
     advance(m.web_pre_hello, s.web.pre_hello_refusals);
+    m.rtc_sessions.Set(static_cast<double>(s.rtc.sessions_open));
+    advance(m.rtc_bad_offer, s.rtc.offers_refused_bad);
+    advance(m.rtc_busy, s.rtc.offers_refused_busy);
+    advance(m.rtc_expired, s.rtc.pending_expired);
+    advance(m.rtc_rate_limited, s.rtc.rate_limited);
+    advance(m.rtc_sent_reliably, s.rtc.unreliable_sent_reliably);
     m.spectators.Set(spectating);
     m.observers.Set(s.observers);
     m.held.Set(held);
@@ -244,8 +268,9 @@ MetricsSample sample_of(const server::RaceServer& server, const net::Transport& 
     s.observers = server.observers();
     s.counters = server.counters();
     s.traffic = transport.totals();
-    s.traffic_enet = net::part_totals(transport, 0);
-    s.traffic_websocket = net::part_totals(transport, 1);
+    s.traffic_enet = net::part_totals(transport, "enet");
+    s.traffic_websocket = net::part_totals(transport, "websocket");
+    s.traffic_webrtc = net::part_totals(transport, "webrtc");
     return s;
 }
 

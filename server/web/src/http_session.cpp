@@ -20,8 +20,11 @@ using tcp = boost::asio::ip::tcp;
 namespace {
 
 constexpr std::uint32_t kMaxRequestHeadBytes = 8 * 1024;
-constexpr std::uint64_t kMaxRequestBodyBytes = 1024;
+/// Room for a WebRTC offer (webrtc::kMaxOfferBytes, 16 KiB) and more, so
+/// that an offer too large is answered 400 by the parser of offers.
+constexpr std::uint64_t kMaxRequestBodyBytes = 32 * 1024;
 constexpr std::string_view kPlayPath = "/play";
+constexpr std::string_view kRtcPath = "/rtc";
 
 using Response = http::response<http::string_body>;
 
@@ -40,6 +43,8 @@ public:
         beast::error_code ec;
         const auto ep = beast::get_lowest_layer(stream_).socket().remote_endpoint(ec);
         if (!ec) address_ = ep.address().to_string();
+        const auto local = beast::get_lowest_layer(stream_).socket().local_endpoint(ec);
+        if (!ec) local_ip_ = local.address().to_string();
     }
     void run() {
         if constexpr (std::is_same_v<Stream, TlsStream>) {
@@ -70,18 +75,23 @@ private:
 
     void on_read(beast::error_code ec, std::size_t) {
         if (ec == http::error::end_of_stream) return close();
+        if (ec == http::error::body_limit) {
+            http::request<http::string_body> req{http::verb::post, kRtcPath, 11};
+            req.keep_alive(false);
+            return respond(req, plain(http::status::bad_request, "request body too large\n"));
+        }
         if (ec) return;
         http::request<http::string_body> req = parser_->release();
         const std::string_view target(req.target().data(), req.target().size());
+        if (target == kRtcPath) return respond(req, signal(req));
         if (target != kPlayPath || !beast::websocket::is_upgrade(req)) return respond(req, answer(req));
-        const std::string_view origin(req[http::field::origin].data(), req[http::field::origin].size());
-        const std::string_view host(req[http::field::host].data(), req[http::field::host].size());
-        if (!origin_allowed(origin, host, state_->config.origins)) {
+        if (!allowed_origin(req)) {
             {
                 std::lock_guard lock(state_->mutex);
                 ++state_->stats.origin_refusals;
             }
-            spdlog::info("web: refused a game socket from {}: Origin {} is not allowed (--web-origin)", address_, origin);
+            spdlog::info("web: refused a game socket from {}: Origin {} is not allowed (--web-origin)", address_,
+                         std::string_view(req[http::field::origin].data(), req[http::field::origin].size()));
             return respond(req, plain(http::status::forbidden, "this origin may not open a game socket\n"));
         }
         const auto admission = state_->reserve(address_);
@@ -94,6 +104,28 @@ private:
         }
         beast::get_lowest_layer(stream_).expires_never();
         open_game_socket(std::move(stream_), *state_, address_, std::move(req));
+    }
+
+    bool allowed_origin(const http::request<http::string_body>& req) const {
+        const std::string_view origin(req[http::field::origin].data(), req[http::field::origin].size());
+        const std::string_view host(req[http::field::host].data(), req[http::field::host].size());
+        return origin_allowed(origin, host, state_->config.origins);
+    }
+
+    // POST /rtc: the WebRTC offer, answered by the signalling (server/rtc).
+    Response signal(const http::request<http::string_body>& req) const {
+        if (!state_->config.rtc_signal) return plain(http::status::not_found, "no WebRTC data channels here\n");
+        if (req.method() != http::verb::post) return plain(http::status::method_not_allowed, "POST an SDP offer\n");
+        if (!allowed_origin(req)) {
+            spdlog::info("web: refused an offer from {}: its Origin is not allowed (--web-origin)", address_);
+            return plain(http::status::forbidden, "this origin may not open a data channel\n");
+        }
+        const SignalReply reply = state_->config.rtc_signal(req.body(), address_, local_ip_);
+        Response r{static_cast<http::status>(reply.status), 11};
+        r.set(http::field::content_type, reply.content_type);
+        if (reply.status == 503) r.set(http::field::retry_after, "1");
+        r.body() = reply.body;
+        return r;
     }
 
     Response answer(const http::request<http::string_body>& req) const {
@@ -145,6 +177,7 @@ private:
     Stream stream_;
     WebState* state_;
     std::string address_;
+    std::string local_ip_;
     beast::flat_buffer buffer_;
     std::optional<http::request_parser<http::string_body>> parser_;
 };

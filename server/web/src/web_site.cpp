@@ -28,6 +28,7 @@ constexpr Entry kFiles[] = {
     {"/hud.js", 0, "hud.js"},
     {"/client_source.js", 0, "client_source.js"},
     {"/client_worker.js", 0, "client_worker.js"},
+    {"/rtc_link.js", 0, "rtc_link.js"},
     {"/close_text.js", 0, "close_text.js"},
     {"/style.css", 0, "style.css"},
     {"/three/build/three.module.js", 1, "three/build/three.module.js"},

@@ -9,19 +9,23 @@
 
 #include <memory>
 #include <string>
+#include <utility>
 
 namespace jetrace::net {
 
-/// Takes both; `second_base` is the lowest peer id `second` hands out.
+/// Takes both; `second_base` is the lowest peer id `second` hands out, and
+/// `second_name` names its peers' transport (metrics, /status). Combines
+/// nest: combine(combine(enet, websocket, base1), webrtc, base2, "webrtc").
 std::unique_ptr<Transport> combine(std::unique_ptr<Transport> first, std::unique_ptr<Transport> second,
-                                   PeerId second_base);
+                                   PeerId second_base, std::string second_name = "websocket");
 
-/// Which transport of a combine() a peer belongs to: "enet" below the base
-/// and "websocket" from it; "enet" for any other transport.
+/// Which transport of a (nested) combine() a peer belongs to: the name of
+/// the second part holding it, else "enet"; "enet" for any other transport.
 std::string transport_of(const Transport& transport, PeerId peer);
 
-/// The totals of one part of a combine() (index 0 or 1); the transport's
-/// own totals for index 0 of any other transport, zeros for index 1.
-Totals part_totals(const Transport& transport, int index);
+/// The totals of the part of a (nested) combine() named `name` ("enet" is
+/// the innermost first part; the transport's own totals for "enet" of any
+/// other transport, zeros for a name not there).
+Totals part_totals(const Transport& transport, const std::string& name);
 
 }  // namespace jetrace::net

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "jetrace/net/transport.hpp"
+#include "jetrace/rtc/rtc_transport.hpp"
 #include "jetrace/web/web_transport.hpp"
 #include "jetrace/server/counters.hpp"
 
@@ -40,11 +41,13 @@ struct MetricsSample {
     /// Hellos refused because Agones had not allocated the server yet.
     std::uint64_t refused_unallocated = 0;
     net::Totals traffic;
-    /// The traffic of each transport: ENet, and the WebSocket one (zeros
-    /// without --web).
-    net::Totals traffic_enet, traffic_websocket;
+    /// The traffic of each transport: ENet, the WebSocket and the WebRTC
+    /// data channel ones (zeros without --web).
+    net::Totals traffic_enet, traffic_websocket, traffic_webrtc;
     /// The WebSocket transport's counters (zeros without --web).
     web::WebStats web;
+    /// The WebRTC transport's counters (zeros without it).
+    rtc::RtcStats rtc;
 };
 
 /// The RaceServer's and the transport's figures now.

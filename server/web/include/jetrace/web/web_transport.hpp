@@ -15,6 +15,7 @@
 #include "jetrace/net/transport.hpp"
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -32,6 +33,17 @@ struct WebFile {
 };
 /// Request path ("/", "/app.js", "/three/build/three.module.js") to file.
 using WebSite = std::map<std::string, WebFile>;
+
+/// What a signalling handler answers (POST /rtc).
+struct SignalReply {
+    int status = 200;
+    std::string content_type;
+    std::string body;
+};
+/// The WebRTC signalling (server/rtc): the posted offer, the client's IP and
+/// the web port's local IP in; the reply out. Called on the web I/O thread.
+using SignalHandler =
+    std::function<SignalReply(std::string_view offer, const std::string& address, const std::string& local_ip)>;
 
 struct WebConfig {
     /// Address to bind ("127.0.0.1": loopback only).
@@ -60,6 +72,9 @@ struct WebConfig {
     /// connection is HTTPS and WSS, without them plain HTTP and WS.
     std::string cert_file;
     std::string key_file;
+    /// POST /rtc (the WebRTC data channel's offer, Content-Type
+    /// application/sdp), from an allowed Origin; unset: 404.
+    SignalHandler rtc_signal;
 };
 
 /// Validates a WebConfig: "" or what is wrong.

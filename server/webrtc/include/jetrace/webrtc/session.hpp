@@ -64,6 +64,9 @@ public:
     /// (PPID 53), or a string (51) when `binary` is false.
     SctpSendResult send(std::uint16_t stream, std::span<const std::uint8_t> data, bool binary = true);
 
+    /// Sends DTLS close_notify (in take_outgoing()); the session is then closed.
+    void close() { dtls_.close(); }
+
     SessionState state() const;
     /// Why the session failed (DTLS's reason, else usrsctp's), "" otherwise.
     std::string error_detail() const;
