@@ -2,7 +2,7 @@
 // levels from other games have and the built-in tracks do not: a block
 // across a gate's centre, floors whose faces point down, a ramp up to a
 // gate on a plateau, and a drop off its far edge. 8 cars, skill seeds 1 to
-// 3: at least 7 of 8 finish a lap each time.
+// 3: all 8 finish a lap each time, with at most 4 respawns among them.
 #include "jetrace/ai/offline_race.hpp"
 #include "support/made_up_track.hpp"
 
@@ -68,7 +68,8 @@ void expect_finish(const char* name, const Track& t) {
         const Outcome o = race(t, seed);
         std::printf("%s seed %llu: %d/8 finished, %d respawns, mean %.1f s\n", name,
                     static_cast<unsigned long long>(seed), o.finished, o.respawns, o.mean_s);
-        EXPECT_GE(o.finished, 7) << name << ", skill seed " << seed << ": " << o.respawns << " respawns";
+        EXPECT_EQ(o.finished, 8) << name << ", skill seed " << seed << ": " << o.respawns << " respawns";
+        EXPECT_LE(o.respawns, 4) << name << ", skill seed " << seed;
     }
 }
 

@@ -10,9 +10,10 @@ namespace {
 
 // 8 AI cars, 60 simulated seconds (7,200 ticks) on `stadium`, skills seed 1,
 // 3 laps, default PhysicsSettings. Equals `jetrace-sim --track stadium
-// --cars 8 --seconds 60 --seed 1`. Change it only with a physics change, and
-// say so in the commit.
-constexpr std::uint64_t kGoldenStadiumHash = 0xda04261180adfa16ull;
+// --cars 8 --seconds 60 --seed 1`. Change it only with a change of the
+// physics or of the driving AI (which drives the race), and say so in the
+// commit.
+constexpr std::uint64_t kGoldenStadiumHash = 0x5915945ddfc6a3f2ull;
 
 std::uint64_t race_hash(const std::string& track_name, int cars, std::uint32_t ticks, std::uint64_t seed) {
     jetrace::Track track;

@@ -1,5 +1,7 @@
 #include "jetrace/ai/driver_ai.hpp"
 
+#include "gate_crossing.hpp"
+
 #include "jetrace/core/candidates.hpp"
 
 #include <algorithm>
@@ -127,13 +129,21 @@ Vec3 pursuit_point(const Route& r, const CarState& car, const Vec3& up, double a
     return g.center + shift;
 }
 
-// Turn at gate `i` (chord between the unit directions of the legs in and
-// out, about the angle in radians) and the legs' mean length (unit: m).
-void corner_at(const Route& r, std::int32_t i, const Vec3& up, double& turn, double& span) {
+// Radius of the turn at gate `i` (unit: m; 0 when the route runs straight
+// on): the widest arc tangent to the legs in and out within half the shorter
+// leg that still passes the gate within 80 % of its half-width. With the
+// turn angle a, R = min(L / tan(a/2), w / (1/cos(a/2) - 1)); sin(a/2) is half
+// the chord between the legs' unit directions, so no trig is needed.
+double corner_radius(const Route& r, std::int32_t i, const Vec3& up) {
     const Vec3 in = in_plane(r.at(i).center - r.at(i - 1).center, up);
     const Vec3 out = in_plane(r.at(i + 1).center - r.at(i).center, up);
-    turn = (normalized_or(in, up) - normalized_or(out, up)).norm();
-    span = 0.5 * (in.norm() + out.norm());
+    const double half_sin = 0.5 * (normalized_or(in, up) - normalized_or(out, up)).norm();
+    if (half_sin < 5e-4) return 0.0;
+    const double half_cos = std::sqrt(std::max(1.0 - half_sin * half_sin, 1e-9));
+    const double legs = 0.5 * std::min(in.norm(), out.norm());
+    const double w = 0.8 * r.at(i).half_width_m;
+    // L / tan = L cos / sin; w / (1/cos - 1) = w cos / (1 - cos).
+    return std::min(legs * half_cos / half_sin, w * half_cos / std::max(1.0 - half_cos, 1e-12));
 }
 
 // Fraction of the full-lock yaw rate the AI plans its turns for.
@@ -141,7 +151,8 @@ constexpr double kYawMargin = 0.8;
 
 // Highest speed at which the car can still slow down for every corner
 // within its braking distance (unit: m/s).
-double speed_limit(const Scene& sc, const Route& r, const CarState& car, const Vec3& up, const DriverSkill& skill) {
+double speed_limit(const Scene& sc, const Route& r, const CarState& car, const Vec3& up, const DriverSkill& skill,
+                   bool finishing) {
     const double decel = sc.physics.brake_mps2 * 0.8;
     const double speed = in_plane(car.velocity, up).norm();
     const double horizon = speed * speed / (2.0 * decel) + 60.0;
@@ -149,12 +160,13 @@ double speed_limit(const Scene& sc, const Route& r, const CarState& car, const V
     double dist = in_plane(r.at(car.next_checkpoint).center - car.position, up).norm();
     for (std::int32_t ahead = 0; ahead < r.count && ahead < 64 && dist < horizon; ++ahead) {
         const std::int32_t i = car.next_checkpoint + ahead;
-        double turn = 0.0, span = 0.0;
-        corner_at(r, i, up, turn, span);
+        // The race ends at the finish line: no corner after it counts (a
+        // car that crosses it slowly stops on it, in the way of the rest).
+        if (finishing && i % r.count == 0) break;
+        const double radius = corner_radius(r, i, up);
         double corner_speed = 1e9;
-        if (turn > 1e-3) {
+        if (radius > 0.0) {
             // Within the grip, and within what the yaw rate can follow.
-            const double radius = span / turn;
             corner_speed = std::min(std::sqrt(skill.corner_mps2 * radius), kYawMargin * sc.physics.steer_rate_radps * radius);
         }
         // A gate passed climbing (it points up, like the top of the wall):
@@ -223,33 +235,29 @@ bool unstick(const Scene& sc, const CarState& car, double error, double speed, I
     return true;
 }
 
-// Where to cross gate `g`, across it from its centre (unit: m): the centre
-// unless finished cars (held with the brake where they crossed the line)
-// stand in the corridor through it; then the clear place nearest the centre.
-double crossing_offset(const Scene& sc, const WorldState& state, const Checkpoint& g) {
-    const double room = 2.0 * sc.physics.car_radius_m + 1.0;
-    constexpr int kSteps = 8;
-    double best = 0.0;
-    double best_clear = -1.0;
-    for (int k = 0; k <= 2 * kSteps; ++k) {
-        // Centre first, then alternately right and left, farther out.
-        const int step = (k + 1) / 2;
-        const double off = (k % 2 == 0 ? 1.0 : -1.0) * g.half_width_m * 0.8 * step / kSteps;
-        double clear = 1e9;
-        for (const CarState& o : state.cars) {
-            if (!o.active || !o.finished) continue;
-            const Vec3 rel = o.position - g.center;
-            const double along = rel.dot(g.normal);
-            if (along < -room || along > 3.0 * room || std::abs(rel.dot(g.up)) > g.half_height_m) continue;
-            clear = std::min(clear, std::abs(rel.dot(g.across) - off));
-        }
-        if (clear >= room) return off;
-        if (clear > best_clear) {
-            best_clear = clear;
-            best = off;
-        }
-    }
-    return best;
+// Slow enough to reach the aim on the arc through it at the yaw rate the
+// steering gives (radius: distance / (2 sin(heading error)), `arc_sin` the
+// sine), and to line up where the car cannot drive through the next gate.
+double aim_limit(const Scene& sc, const CarState& car, const Vec3& up, const Vec3& aim, double arc_sin) {
+    double limit = 1e9;
+    const double reach = in_plane(aim - car.position, up).norm();
+    const double yaw_rate = kYawMargin * sc.physics.steer_rate_radps;
+    if (arc_sin > 1e-3) limit = std::max(6.0, yaw_rate * reach / (2.0 * arc_sin));
+    const Checkpoint& next = sc.track.checkpoints[static_cast<std::size_t>(car.next_checkpoint)];
+    if (needs_approach(next, car.position)) limit = std::min(limit, kApproachSpeed_mps);
+    return limit;
+}
+
+// The steering held to what the grip turns: on the ground the yaw rate the
+// lock asks for times the speed is the sideways acceleration, and past
+// grip_mps2 the car slides, its sideways friction falls to slide_mps2 and
+// it turns far slower than asked (at 60 m/s and more full lock is past it).
+int within_grip(const Scene& sc, int steer, double speed) {
+    if (!(speed > 1.0)) return steer;
+    const double cap = 0.9 * sc.physics.grip_mps2 / (speed * sc.physics.steer_rate_radps);
+    if (cap >= 1.0) return steer;
+    const int c = std::max(1, static_cast<int>(cap * Input::kMaxSteer));
+    return std::clamp(steer, -c, c);
 }
 
 }  // namespace
@@ -280,7 +288,9 @@ Input drive(const Course& course, const WorldState& state, int slot, const Drive
     const Checkpoint& next = route.at(car.next_checkpoint);
     const double to_gate = in_plane(next.center - car.position, up).norm();
     const double ahead_m = std::max(std::clamp(speed * 0.5, 10.0, skill.lookahead_m), to_gate);
-    const Vec3 aim = pursuit_point(route, car, up, ahead_m, next.across * crossing_offset(sc, state, next));
+    const std::int32_t next_k = ((car.next_checkpoint % route.count) + route.count) % route.count;
+    const double cross_at = ai_detail::crossing_offset(course, state, next_k, car);
+    const Vec3 aim = pursuit_point(route, car, up, ahead_m, next.across * cross_at);
 
     const Vec3 d = normalized_or(in_plane(aim - car.position, up), fwd);
     // Heading error: about the angle while ahead, beyond a right angle when behind.
@@ -297,19 +307,15 @@ Input drive(const Course& course, const WorldState& state, int slot, const Drive
     // In the air thrust does nothing: lift off, keep the nose on the aim for the landing.
     if (!touches_track(sc, car.position)) return Input::clamped(0, steer, 0);
 
-    double limit = speed_limit(sc, route, car, up, skill);
+    const bool finishing = next_k == 0 && car.lap >= state.laps;
+    double limit = speed_limit(sc, route, car, up, skill, finishing);
     if (!steep) {
         const double decel = sc.physics.brake_mps2 * 0.8;
         const double horizon = speed * speed / (2.0 * decel) + 2.0 * kProbeStep_m;
         limit = std::min(limit, crest_limit(sc, course.road(), route, car, up, decel, horizon, skill));
-        // Slow enough to reach the aim on the arc through it at the yaw rate
-        // the steering gives (radius: distance / (2 sin(heading error))).
-        const double arc_sin = d.dot(fwd) > 0.0 ? std::abs(lateral) : 1.0;
-        const double reach = in_plane(aim - car.position, up).norm();
-        const double yaw_rate = kYawMargin * sc.physics.steer_rate_radps;
-        if (arc_sin > 1e-3) limit = std::min(limit, std::max(6.0, yaw_rate * reach / (2.0 * arc_sin)));
-        if (needs_approach(next, car.position)) limit = std::min(limit, kApproachSpeed_mps);
+        limit = std::min(limit, aim_limit(sc, car, up, aim, d.dot(fwd) > 0.0 ? std::abs(lateral) : 1.0));
     }
+    const int steer_g = within_grip(sc, steer, speed);
     int throttle = Input::kMaxThrottle;
     int brake = 0;
     if (speed > limit) {
@@ -318,7 +324,7 @@ Input drive(const Course& course, const WorldState& state, int slot, const Drive
     }
     // Sliding sideways: ease off so the grip comes back.
     if (std::abs(car.velocity.dot(right)) > 8.0) throttle = std::min(throttle, Input::kMaxThrottle / 2);
-    return Input::clamped(throttle, steer, brake);
+    return Input::clamped(throttle, steer_g, brake);
 }
 
 }  // namespace jetrace

@@ -13,6 +13,10 @@ std::vector<DriverSkill> skills_for(int cars, std::uint64_t seed) {
         s.lookahead_m = 30.0 + 15.0 * unit();
         s.steer_gain = 2.0 + 1.5 * unit();
     }
+    // The speed at the top of a climb, drawn after the rest (which stay as
+    // they were): cars that all leave the top of the stadium's wall at one
+    // speed fly one path a few metres apart and land on one another.
+    for (DriverSkill& s : out) s.climb_top_mps = 25.0 + 20.0 * unit();
     return out;
 }
 

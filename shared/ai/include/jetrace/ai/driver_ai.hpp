@@ -15,7 +15,9 @@
 #include "jetrace/core/world.hpp"
 
 #include <cstddef>
+#include <cstdint>
 #include <optional>
+#include <vector>
 
 namespace jetrace {
 
@@ -42,15 +44,28 @@ struct DriverSkill {
 /// scene, which must outlive it.
 class Course {
 public:
-    explicit Course(const Scene& scene, const RoadProbe& probe = {})
-        : scene_(&scene), road_(RoadProfile::build(scene.track, scene.grid, probe)) {}
+    /// Places across a gate the AI tries, each side of the centre (the
+    /// centre is place 0; place 2k - 1 is k steps to one side, 2k the other).
+    static constexpr int kCrossingSteps = 8;
+
+    explicit Course(const Scene& scene, const RoadProbe& probe = {});
 
     const Scene& scene() const { return *scene_; }
     const RoadProfile& road() const { return road_; }
+    /// True if a static part of the track (a face steeper than the road:
+    /// a block, a barrier) stands where a car would cross gate `gate` at
+    /// place `place` (0 .. 2 kCrossingSteps): on the line or before it, or
+    /// (unless `finishing`: a car that finishes stops there) just after it.
+    bool crossing_blocked(std::size_t gate, int place, bool finishing) const {
+        return ((finishing ? at_line_[gate] : blocked_[gate]) >> place) & 1u;
+    }
 
 private:
     const Scene* scene_;
     RoadProfile road_;
+    // One bit a place, per gate: up to the line, and up to 4 m past it.
+    std::vector<std::uint32_t> at_line_;
+    std::vector<std::uint32_t> blocked_;
 };
 
 /// The Course of whichever scene a client races on, made again when that
