@@ -25,6 +25,9 @@
 #include <cstdint>
 #include <cstring>
 #include <vector>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace jetrace {
 
@@ -51,10 +54,24 @@ inline F4 load4(const float* at) {
     return v;
 }
 inline F4 splat4(float f) { return F4{f, f, f, f}; }
-// `yes` where the mask is set, else `no` (masks: all ones or zero per lane).
-inline F4 select4(I4 mask, F4 yes, F4 no) {
-    return reinterpret_cast<F4>((reinterpret_cast<I4>(yes) & mask) | (reinterpret_cast<I4>(no) & ~mask));
+#if defined(__SSE2__)
+// a > b ? a : b per lane, b where either is NaN: what MAXPS computes, one
+// instruction (the generic code below in three).
+inline F4 max4(F4 a, F4 b) { return reinterpret_cast<F4>(_mm_max_ps(reinterpret_cast<__m128>(a), reinterpret_cast<__m128>(b))); }
+// Bit i set where lane i of a comparison's mask is set (MOVMSKPS).
+inline std::uint32_t lane_bits(I4 in) {
+    return static_cast<std::uint32_t>(_mm_movemask_ps(_mm_castsi128_ps(reinterpret_cast<__m128i>(in))));
 }
+#else
+inline F4 max4(F4 a, F4 b) {
+    const I4 mask = a > b;
+    return reinterpret_cast<F4>((reinterpret_cast<I4>(a) & mask) | (reinterpret_cast<I4>(b) & ~mask));
+}
+inline std::uint32_t lane_bits(I4 in) {
+    const I4 bits = in & I4{1, 2, 4, 8};
+    return static_cast<std::uint32_t>(bits[0] | bits[1] | bits[2] | bits[3]);
+}
+#endif
 }  // namespace packed_detail
 
 class PackedBoxes {
@@ -99,12 +116,12 @@ public:
                 const F4 p = splat4(q.p[i]);
                 const F4 above = p - load4(&hi_[i][at]);
                 const F4 below = load4(&lo_[i][at]) - p;
-                F4 gap = select4(above > below, above, below);  // NaN: below
-                gap = select4(splat4(0.0f) > gap, splat4(0.0f), gap);  // NaN stays NaN
+                F4 gap = max4(above, below);        // NaN: below
+                gap = max4(splat4(0.0f), gap);      // NaN stays NaN
                 d2 = d2 + gap * gap;
             }
             const I4 in = d2 <= splat4(q.reach2);
-            mask |= lane_bits(in) << half;
+            mask |= packed_detail::lane_bits(in) << half;
         }
         return mask;
     }
@@ -131,11 +148,6 @@ public:
     }
 
 private:
-    static std::uint32_t lane_bits(packed_detail::I4 in) {
-        const packed_detail::I4 bits = in & packed_detail::I4{1, 2, 4, 8};
-        return static_cast<std::uint32_t>(bits[0] | bits[1] | bits[2] | bits[3]);
-    }
-
     std::size_t n_ = 0;
     std::array<std::vector<float>, 3> lo_, hi_;  // padded to a multiple of kLanes
 };
