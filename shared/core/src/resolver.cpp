@@ -10,17 +10,19 @@ namespace jetrace {
 
 namespace {
 
-// Calls f(triangle, k) for each candidate in a fixed order (k: its place in
-// the candidate list, for Candidates::may_touch); stops when f returns false.
+// Calls f(triangle, k, index) for each candidate in a fixed order (k: its
+// place in the candidate list, for Candidates::may_touch; index: the
+// triangle's); stops when f returns false.
 template <class F>
 void for_each(const Track& track, const Candidates& cand, F&& f) {
     if (cand.all) {
         for (std::size_t k = 0; k < track.triangles.size(); ++k) {
-            if (!f(track.triangles[k], k)) return;
+            if (!f(track.triangles[k], k, static_cast<std::uint32_t>(k))) return;
         }
     } else {
         for (std::size_t k = 0; k < cand.triangles.size(); ++k) {
-            if (!f(track.triangles[cand.triangles[k]], k)) return;
+            const std::uint32_t index = cand.triangles[k];
+            if (!f(track.triangles[index], k, index)) return;
         }
     }
 }
@@ -113,8 +115,10 @@ int sweep_motion(const TrackQuery& q, const SphereMotion& car, Candidates& cand)
         // motion's midpoint.
         const Vec3 mid = p + d * 0.5;
         const BoxQuery swept = cand.box_query(mid, 0.5 * std::sqrt(d.squaredNorm()) + r);
-        for_each(track, cand, [&](const Triangle& t, std::size_t k) {
-            if (cand.may_reach_along_axes(k, swept)) found = sweep_sphere_triangle(p, d, r, t, hit) || found;
+        for_each(track, cand, [&](const Triangle& t, std::size_t k, std::uint32_t index) {
+            if (cand.may_reach_along_axes(k, swept)) {
+                found = sweep_sphere_triangle(p, d, r, t, unit_normal(cand, index, t), hit) || found;
+            }
             return true;
         });
         if (!found) {
