@@ -158,6 +158,16 @@ void find_contacts(const TrackQuery& q, const Candidates& cand, const Vec3& cent
 
 namespace {
 
+// Whether a pass at reach `r` finds candidate `at` (triangle `index`, `t`)
+// touching the car at `position`: its box test there, then its closest-point
+// test. Out of line: only a pass that touches asks (the box query is made
+// only then).
+[[gnu::noinline]] bool touches_at(const Candidates& cand, std::size_t at, std::uint32_t index, const Triangle& t,
+                                  const Vec3& position, double r) {
+    ClosestPoint same_point;
+    return cand.may_touch(at, position, r) && closest_within(cand, index, t, position, r, same_point);
+}
+
 // One push-out pass: in ascending triangle order, every candidate the sphere
 // touches (distance <= r) moves the centre to r + epsilon from its closest
 // point and loses its velocity into it; PushOut::first_contact stops after
@@ -189,8 +199,6 @@ int push_pass(const TrackQuery& q, const SphereMotion& car, Candidates& cand, bo
     std::size_t k = 0;  // where the pass goes on after a push
     for (;;) {
         bool pushed = false;
-        // The box test a pass at reach r would make where the car is.
-        const BoxQuery at_r = reach != r ? cand.box_query(position, r) : BoxQuery{};
         for_each_touching(track, cand, k, position, reach, [&](const Triangle& t, std::size_t at, std::uint32_t index) {
             ClosestPoint cp;
             if (!closest_within(cand, index, t, position, reach, cp)) return true;
@@ -200,10 +208,7 @@ int push_pass(const TrackQuery& q, const SphereMotion& car, Candidates& cand, bo
             // distance of r), so that the push never depends on the reach
             // this pass gathers contacts at, that is, on resolve()'s hint.
             bool touching = d2 <= r2;
-            if (touching && reach != r) {
-                ClosestPoint same_point;
-                touching = cand.may_touch(at, at_r) && closest_within(cand, index, t, position, r, same_point);
-            }
+            if (touching && reach != r) touching = touches_at(cand, at, index, t, position, r);
             if (!touching) {
                 if (collect && pushes == 0 && d2 < query2) {
                     contacts.add(contact_normal(cand, index, t, cp, position, std::sqrt(d2), nullptr));
