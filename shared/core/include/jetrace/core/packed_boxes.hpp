@@ -85,16 +85,16 @@ public:
     /// Box k.
     void set(std::size_t k, const FloatBox& b) {
         for (int i = 0; i < 3; ++i) {
-            lo_[i][k] = b.lo[i];
-            hi_[i][k] = b.hi[i];
+            lo(i)[k] = b.lo[i];
+            hi(i)[k] = b.hi[i];
         }
     }
     /// Box k.
     FloatBox box(std::size_t k) const {
         FloatBox b;
         for (int i = 0; i < 3; ++i) {
-            b.lo[i] = lo_[i][k];
-            b.hi[i] = hi_[i][k];
+            b.lo[i] = lo(i)[k];
+            b.hi[i] = hi(i)[k];
         }
         return b;
     }
@@ -114,8 +114,8 @@ public:
             F4 d2 = splat4(0.0f);
             for (int i = 0; i < 3; ++i) {
                 const F4 p = splat4(q.p[i]);
-                const F4 above = p - load4(&hi_[i][at]);
-                const F4 below = load4(&lo_[i][at]) - p;
+                const F4 above = p - load4(hi(i) + at);
+                const F4 below = load4(lo(i) + at) - p;
                 F4 gap = max4(above, below);        // NaN: below
                 gap = max4(splat4(0.0f), gap);      // NaN stays NaN
                 d2 = d2 + gap * gap;
@@ -130,8 +130,8 @@ public:
         if (q.none) return false;
         float d2 = 0.0f;
         for (int i = 0; i < 3; ++i) {
-            const float above = q.p[i] - hi_[i][k];
-            const float below = lo_[i][k] - q.p[i];
+            const float above = q.p[i] - hi(i)[k];
+            const float below = lo(i)[k] - q.p[i];
             float gap = above > below ? above : below;
             gap = 0.0f > gap ? 0.0f : gap;
             d2 = d2 + gap * gap;
@@ -143,13 +143,22 @@ public:
     bool within_along_axes(std::size_t k, const BoxQuery& q) const {
         if (q.none) return false;
         bool in = true;
-        for (int i = 0; i < 3; ++i) in = in && q.p[i] + q.reach >= lo_[i][k] && q.p[i] - q.reach <= hi_[i][k];
+        for (int i = 0; i < 3; ++i) in = in && q.p[i] + q.reach >= lo(i)[k] && q.p[i] - q.reach <= hi(i)[k];
         return in;
     }
 
 private:
     std::size_t n_ = 0;
-    std::array<std::vector<float>, 3> lo_, hi_;  // padded to a multiple of kLanes
+    // Axis i's lower bounds of every box, then its upper bounds (each
+    // array padded to a multiple of kLanes: `stride_` floats), in one
+    // vector: lower x, y, z, upper x, y, z.
+    const float* lo(int i) const { return data_.data() + static_cast<std::size_t>(i) * stride_; }
+    const float* hi(int i) const { return data_.data() + static_cast<std::size_t>(i + 3) * stride_; }
+    float* lo(int i) { return data_.data() + static_cast<std::size_t>(i) * stride_; }
+    float* hi(int i) { return data_.data() + static_cast<std::size_t>(i + 3) * stride_; }
+
+    std::size_t stride_ = 0;
+    std::vector<float> data_;
 };
 
 inline BoxQuery PackedBoxes::query(const Vec3& p, double reach_m) const {
