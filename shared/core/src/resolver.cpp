@@ -4,25 +4,26 @@
 #include "jetrace/core/sweep.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 namespace jetrace {
 
 namespace {
 
-// Calls f(triangle, k, index) for each candidate in a fixed order (k: its
-// place in the candidate list, for Candidates::may_touch; index: the
-// triangle's); stops when f returns false.
+// Calls f(triangle, index) for each candidate that may_reach_along_axes(k,
+// q) accepts, in order (index: the triangle's); a run's eight boxes tested
+// at once.
 template <class F>
-void for_each(const Track& track, const Candidates& cand, F&& f) {
+void for_each_reaching(const Track& track, const Candidates& cand, const BoxQuery& q, F&& f) {
     if (cand.all) {
-        for (std::size_t k = 0; k < track.triangles.size(); ++k) {
-            if (!f(track.triangles[k], k, static_cast<std::uint32_t>(k))) return;
-        }
-    } else {
-        for (std::size_t k = 0; k < cand.triangles.size(); ++k) {
-            const std::uint32_t index = cand.triangles[k];
-            if (!f(track.triangles[index], k, index)) return;
+        for (std::size_t k = 0; k < track.triangles.size(); ++k) f(track.triangles[k], static_cast<std::uint32_t>(k));
+        return;
+    }
+    for (std::size_t first = 0; first < cand.triangles.size(); first += Candidates::kRunLength) {
+        for (std::uint32_t mask = cand.boxes.within8_along_axes(first, q); mask != 0; mask &= mask - 1) {
+            const std::uint32_t index = cand.triangles[first + static_cast<std::size_t>(std::countr_zero(mask))];
+            f(track.triangles[index], index);
         }
     }
 }
@@ -115,11 +116,8 @@ int sweep_motion(const TrackQuery& q, const SphereMotion& car, Candidates& cand)
         // motion's midpoint.
         const Vec3 mid = p + d * 0.5;
         const BoxQuery swept = cand.box_query(mid, 0.5 * std::sqrt(d.squaredNorm()) + r);
-        for_each(track, cand, [&](const Triangle& t, std::size_t k, std::uint32_t index) {
-            if (cand.may_reach_along_axes(k, swept)) {
-                found = sweep_sphere_triangle(p, d, r, t, unit_normal(cand, index, t), hit) || found;
-            }
-            return true;
+        for_each_reaching(track, cand, swept, [&](const Triangle& t, std::uint32_t index) {
+            found = sweep_sphere_triangle(p, d, r, t, unit_normal(cand, index, t), hit) || found;
         });
         if (!found) {
             // Nothing in the way: the car ends where it was going (exactly:

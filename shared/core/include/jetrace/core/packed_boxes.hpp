@@ -138,6 +138,24 @@ public:
         }
         return d2 <= q.reach2;
     }
+    /// Bit i set if box first + i (first: a multiple of kLanes, below the
+    /// padded size) is within the reach along every axis: within_along_axes
+    /// for eight boxes, by the same arithmetic.
+    std::uint32_t within8_along_axes(std::size_t first, const BoxQuery& q) const {
+        using namespace packed_detail;
+        if (q.none) return 0;
+        std::uint32_t mask = 0;
+        for (std::size_t half = 0; half < kLanes; half += 4) {
+            const std::size_t at = first + half;
+            I4 in = I4{-1, -1, -1, -1};
+            for (int i = 0; i < 3; ++i) {
+                in &= splat4(q.p[i] + q.reach) >= load4(lo(i) + at);
+                in &= splat4(q.p[i] - q.reach) <= load4(hi(i) + at);
+            }
+            mask |= lane_bits(in) << half;
+        }
+        return mask;
+    }
     /// Box k within the reach along every axis (its distance along each
     /// axis, not the Euclidean one): the sweep's test.
     bool within_along_axes(std::size_t k, const BoxQuery& q) const {
