@@ -1,5 +1,5 @@
-// Gathering a car's candidates from the grid, and the policy that decides
-// how far they reach (jetrace/core/resolver.hpp).
+// Gathering a car's candidates from the grid (the policy that decides how
+// far they reach, gather_reach, is inline in jetrace/core/resolver.hpp).
 #include "jetrace/core/resolver.hpp"
 
 #include <algorithm>
@@ -67,34 +67,6 @@ void gather_candidates(const TrackQuery& q, const Vec3& center, double radius_m,
     merge_runs(kept, out.merge_scratch);
     kept.erase(std::unique(kept.begin(), kept.end()), kept.end());
     out.finish_gather([&](std::uint32_t t) -> const FloatBox& { return q.grid.box(t); });
-}
-
-GatherReach gather_reach(const PhysicsSettings& s, GatherFor why, double motion_m) {
-    switch (why) {
-        case GatherFor::contacts: {
-            const double cover = s.car_radius_m + s.contact_skin_m;
-            return {cover, cover + kGatherMargin_m};
-        }
-        case GatherFor::sweep: {
-            const double cover = sweep_reach(s, motion_m);
-            return {cover, cover + kGatherMargin_m};
-        }
-        case GatherFor::step: break;
-    }
-    // A step: wide enough for the step's sweep too (its motion is about
-    // motion_m; kGatherMargin_m absorbs the step's acceleration), so that
-    // the sweep does not gather again.
-    const double reach = s.car_radius_m + s.contact_skin_m + motion_m + kGatherMargin_m;
-    const double gather =
-        s.collision_mode == CollisionMode::swept ? std::max(reach, sweep_reach(s, motion_m) + kGatherMargin_m) : reach;
-    return {reach - kGatherMargin_m, gather};
-}
-
-Vec3 gather_lookahead(const PhysicsSettings& s, const Vec3& velocity, double travel_m) {
-    Vec3 lookahead = velocity * (s.dt_s() * kGatherLookahead_steps);
-    const double ahead = travel_m * kGatherLookahead_steps;
-    if (ahead > kGatherLookaheadMax_m) lookahead *= kGatherLookaheadMax_m / ahead;
-    return lookahead;
 }
 
 }  // namespace jetrace

@@ -7,13 +7,14 @@ namespace jetrace {
 
 void PackedBoxes::reset(std::size_t n) {
     n_ = n;
-    const std::size_t padded = (n + kLanes - 1) / kLanes * kLanes;
+    stride_ = (n + kLanes - 1) / kLanes * kLanes;
+    data_.resize(6 * stride_);
     constexpr float inf = std::numeric_limits<float>::infinity();
     for (int i = 0; i < 3; ++i) {
-        lo_[i].resize(padded);
-        hi_[i].resize(padded);
-        std::fill(lo_[i].begin() + static_cast<std::ptrdiff_t>(n), lo_[i].end(), inf);
-        std::fill(hi_[i].begin() + static_cast<std::ptrdiff_t>(n), hi_[i].end(), -inf);
+        for (std::size_t k = n; k < stride_; ++k) {
+            lo(i)[k] = inf;
+            hi(i)[k] = -inf;
+        }
     }
 }
 

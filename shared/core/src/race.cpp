@@ -59,6 +59,11 @@ void collide_cars(double radius_m, std::vector<CarState>& cars) {
             if (!cars[j].active) continue;
             CarState& a = cars[i];
             CarState& b = cars[j];
+            // Apart along x alone: d2 below sums dx * dx with other squares,
+            // never less (rounding is monotonic), so it would fail the test
+            // below too. Most pairs are; this spares them the rest.
+            const double dx = b.position.x() - a.position.x();
+            if (dx * dx >= min2) continue;
             const Vec3 d = b.position - a.position;
             const double d2 = d.squaredNorm();
             if (!(d2 < min2)) continue;

@@ -4,23 +4,26 @@
 #include "jetrace/core/sweep.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 namespace jetrace {
 
 namespace {
 
-// Calls f(triangle, k) for each candidate in a fixed order (k: its place in
-// the candidate list, for Candidates::may_touch); stops when f returns false.
+// Calls f(triangle, index) for each candidate that may_reach_along_axes(k,
+// q) accepts, in order (index: the triangle's); a run's eight boxes tested
+// at once.
 template <class F>
-void for_each(const Track& track, const Candidates& cand, F&& f) {
+void for_each_reaching(const Track& track, const Candidates& cand, const BoxQuery& q, F&& f) {
     if (cand.all) {
-        for (std::size_t k = 0; k < track.triangles.size(); ++k) {
-            if (!f(track.triangles[k], k)) return;
-        }
-    } else {
-        for (std::size_t k = 0; k < cand.triangles.size(); ++k) {
-            if (!f(track.triangles[cand.triangles[k]], k)) return;
+        for (std::size_t k = 0; k < track.triangles.size(); ++k) f(track.triangles[k], static_cast<std::uint32_t>(k));
+        return;
+    }
+    for (std::size_t first = 0; first < cand.triangles.size(); first += Candidates::kRunLength) {
+        for (std::uint32_t mask = cand.boxes.within8_along_axes(first, q); mask != 0; mask &= mask - 1) {
+            const std::uint32_t index = cand.triangles[first + static_cast<std::size_t>(std::countr_zero(mask))];
+            f(track.triangles[index], index);
         }
     }
 }
@@ -113,9 +116,8 @@ int sweep_motion(const TrackQuery& q, const SphereMotion& car, Candidates& cand)
         // motion's midpoint.
         const Vec3 mid = p + d * 0.5;
         const BoxQuery swept = cand.box_query(mid, 0.5 * std::sqrt(d.squaredNorm()) + r);
-        for_each(track, cand, [&](const Triangle& t, std::size_t k) {
-            if (cand.may_reach_along_axes(k, swept)) found = sweep_sphere_triangle(p, d, r, t, hit) || found;
-            return true;
+        for_each_reaching(track, cand, swept, [&](const Triangle& t, std::uint32_t index) {
+            found = sweep_sphere_triangle(p, d, r, t, unit_normal(cand, index, t), hit) || found;
         });
         if (!found) {
             // Nothing in the way: the car ends where it was going (exactly:
@@ -154,6 +156,16 @@ void find_contacts(const TrackQuery& q, const Candidates& cand, const Vec3& cent
 
 namespace {
 
+// Whether a pass at reach `r` finds candidate `at` (triangle `index`, `t`)
+// touching the car at `position`: its box test there, then its closest-point
+// test. Out of line: only a pass that touches asks (the box query is made
+// only then).
+[[gnu::noinline]] bool touches_at(const Candidates& cand, std::size_t at, std::uint32_t index, const Triangle& t,
+                                  const Vec3& position, double r) {
+    ClosestPoint same_point;
+    return cand.may_touch(at, position, r) && closest_within(cand, index, t, position, r, same_point);
+}
+
 // One push-out pass: in ascending triangle order, every candidate the sphere
 // touches (distance <= r) moves the centre to r + epsilon from its closest
 // point and loses its velocity into it; PushOut::first_contact stops after
@@ -185,8 +197,6 @@ int push_pass(const TrackQuery& q, const SphereMotion& car, Candidates& cand, bo
     std::size_t k = 0;  // where the pass goes on after a push
     for (;;) {
         bool pushed = false;
-        // The box test a pass at reach r would make where the car is.
-        const BoxQuery at_r = reach != r ? cand.box_query(position, r) : BoxQuery{};
         for_each_touching(track, cand, k, position, reach, [&](const Triangle& t, std::size_t at, std::uint32_t index) {
             ClosestPoint cp;
             if (!closest_within(cand, index, t, position, reach, cp)) return true;
@@ -196,10 +206,7 @@ int push_pass(const TrackQuery& q, const SphereMotion& car, Candidates& cand, bo
             // distance of r), so that the push never depends on the reach
             // this pass gathers contacts at, that is, on resolve()'s hint.
             bool touching = d2 <= r2;
-            if (touching && reach != r) {
-                ClosestPoint same_point;
-                touching = cand.may_touch(at, at_r) && closest_within(cand, index, t, position, r, same_point);
-            }
+            if (touching && reach != r) touching = touches_at(cand, at, index, t, position, r);
             if (!touching) {
                 if (collect && pushes == 0 && d2 < query2) {
                     contacts.add(contact_normal(cand, index, t, cp, position, std::sqrt(d2), nullptr));

@@ -48,9 +48,9 @@ bool sweep_edge(const Vec3& p0, const Vec3& d, double r, const Vec3& a, const Ve
     return true;
 }
 
-// True if p (on the triangle's plane) is inside or on the triangle.
-bool inside(const Triangle& tri, const Vec3& p) {
-    const Vec3 n = tri.normal();
+// True if p (on the triangle's plane) is inside or on the triangle (`n`:
+// its unit normal).
+bool inside(const Triangle& tri, const Vec3& n, const Vec3& p) {
     return (tri.b - tri.a).cross(p - tri.a).dot(n) >= 0.0 && (tri.c - tri.b).cross(p - tri.b).dot(n) >= 0.0 &&
            (tri.a - tri.c).cross(p - tri.c).dot(n) >= 0.0;
 }
@@ -58,8 +58,14 @@ bool inside(const Triangle& tri, const Vec3& p) {
 }  // namespace
 
 bool sweep_sphere_triangle(const Vec3& p0, const Vec3& d, double r, const Triangle& tri, SweepHit& hit) {
+    return sweep_sphere_triangle(p0, d, r, tri, tri.normal(), hit);
+}
+
+bool sweep_sphere_triangle(const Vec3& p0, const Vec3& d, double r, const Triangle& tri, const Vec3& unit_normal,
+                           SweepHit& hit) {
     if (!tri.degenerate) {
-        Vec3 n = tri.normal();
+        const Vec3& face_normal = unit_normal;
+        Vec3 n = face_normal;
         double s0 = (p0 - tri.a).dot(n);
         double dn = d.dot(n);
         if (s0 < 0.0 || (s0 == 0.0 && dn > 0.0)) {  // the sphere is on the back side
@@ -73,7 +79,7 @@ bool sweep_sphere_triangle(const Vec3& p0, const Vec3& d, double r, const Triang
             const double t = s0 > r ? (s0 - r) / -dn : 0.0;
             if (t <= 1.0) {
                 const Vec3 c = p0 + d * t - n * (s0 > r ? r : s0);
-                if (inside(tri, c)) {
+                if (inside(tri, face_normal, c)) {
                     if (!(t < hit.t)) return false;
                     hit = {t, n};
                     return true;

@@ -6,23 +6,6 @@
 
 namespace jetrace {
 
-GateCrossing cross_gate(const Checkpoint& g, const Vec3& from, const Vec3& to) {
-    const double s0 = (from - g.center).dot(g.normal);
-    const double s1 = (to - g.center).dot(g.normal);
-    if (!(s0 < 0.0 && s1 >= 0.0)) return {};
-    const double f = s0 / (s0 - s1);
-    const Vec3 q = from + (to - from) * f - g.center;
-    if (std::abs(q.dot(g.across)) > g.half_width_m || std::abs(q.dot(g.up)) > g.half_height_m) return {};
-    return {true, f};
-}
-
-double squared_distance_to_gate(const Checkpoint& g, const Vec3& p) {
-    const Vec3 q = p - g.center;
-    const double a = std::clamp(q.dot(g.across), -g.half_width_m, g.half_width_m);
-    const double u = std::clamp(q.dot(g.up), -g.half_height_m, g.half_height_m);
-    return (q - g.across * a - g.up * u).squaredNorm();
-}
-
 double distance_to_gate(const Checkpoint& g, const Vec3& p) { return std::sqrt(squared_distance_to_gate(g, p)); }
 
 std::uint64_t Track::identity() const {

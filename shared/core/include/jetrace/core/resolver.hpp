@@ -67,11 +67,11 @@ struct GatherReach {
 };
 
 /// The gather policy, the one place that decides candidate reach.
-GatherReach gather_reach(const PhysicsSettings& s, GatherFor why, double motion_m = 0.0);
+inline GatherReach gather_reach(const PhysicsSettings& s, GatherFor why, double motion_m = 0.0);
 
 /// The look-ahead a car moving at `velocity` gathers with (see
 /// Candidates::lookahead), `travel_m` being its motion in one step.
-Vec3 gather_lookahead(const PhysicsSettings& s, const Vec3& velocity, double travel_m);
+inline Vec3 gather_lookahead(const PhysicsSettings& s, const Vec3& velocity, double travel_m);
 
 /// Gathers the candidates again around `p` unless they cover `reach`.
 /// True if it gathered.
@@ -96,6 +96,35 @@ inline bool needs_sweep(const PhysicsSettings& s, const Vec3& from, const Vec3& 
 /// per contact, plus the push-out's reach and kGatherMargin_m.
 inline double sweep_reach(const PhysicsSettings& s, double motion_m) {
     return motion_m + s.sweep_contacts * s.resolver_epsilon_m + s.car_radius_m + s.contact_skin_m + kGatherMargin_m;
+}
+
+// Definitions of gather_reach and gather_lookahead (inline: a step asks several times).
+inline GatherReach gather_reach(const PhysicsSettings& s, GatherFor why, double motion_m) {
+    switch (why) {
+        case GatherFor::contacts: {
+            const double cover = s.car_radius_m + s.contact_skin_m;
+            return {cover, cover + kGatherMargin_m};
+        }
+        case GatherFor::sweep: {
+            const double cover = sweep_reach(s, motion_m);
+            return {cover, cover + kGatherMargin_m};
+        }
+        case GatherFor::step: break;
+    }
+    // A step: wide enough for the step's sweep too (its motion is about
+    // motion_m; kGatherMargin_m absorbs the step's acceleration), so that
+    // the sweep does not gather again.
+    const double reach = s.car_radius_m + s.contact_skin_m + motion_m + kGatherMargin_m;
+    const double gather =
+        s.collision_mode == CollisionMode::swept ? std::max(reach, sweep_reach(s, motion_m) + kGatherMargin_m) : reach;
+    return {reach - kGatherMargin_m, gather};
+}
+
+inline Vec3 gather_lookahead(const PhysicsSettings& s, const Vec3& velocity, double travel_m) {
+    Vec3 lookahead = velocity * (s.dt_s() * kGatherLookahead_steps);
+    const double ahead = travel_m * kGatherLookahead_steps;
+    if (ahead > kGatherLookaheadMax_m) lookahead *= kGatherLookaheadMax_m / ahead;
+    return lookahead;
 }
 
 struct ResolveStats {

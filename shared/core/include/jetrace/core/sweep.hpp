@@ -32,4 +32,10 @@ struct SweepHit {
 /// first triangle in call order on ties).
 bool sweep_sphere_triangle(const Vec3& p0, const Vec3& d, double r, const Triangle& tri, SweepHit& hit);
 
+/// The same with `tri`'s unit normal given (Triangle::normal(), or its
+/// kept copy: the same bits; unused for a degenerate triangle): the same
+/// arithmetic, without computing the normal twice.
+bool sweep_sphere_triangle(const Vec3& p0, const Vec3& d, double r, const Triangle& tri, const Vec3& unit_normal,
+                           SweepHit& hit);
+
 }  // namespace jetrace
