@@ -19,7 +19,6 @@ bool DrawnCheck::confirm(std::uint32_t tick, const Vec3& server, DrawnCause caus
     d->compared = true;
     last_.tick = tick;
     last_.drawn = d->p;
-    last_.server = server;
     last_.same = true;
     for (int i = 0; i < 3; ++i) {
         last_.same = last_.same && std::bit_cast<std::uint64_t>(d->p[i]) == std::bit_cast<std::uint64_t>(server[i]);

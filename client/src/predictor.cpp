@@ -109,10 +109,10 @@ void Predictor::fill_inputs(const proto::WorldSnapshot& snap, std::size_t own, s
     if (const Input* mine = my_input(t); mine != nullptr && own < out.size()) out[own] = *mine;
 }
 
-void Predictor::step_kept(const Scene& scene, WorldState& w, const std::vector<Input>& inputs, std::size_t own) {
+void Predictor::step_kept(const Scene& scene, WorldState& w, const std::vector<Input>& inputs, std::size_t own,
+                          bool near) {
     const std::uint32_t t = w.tick;
     my_states_.insert(t, w.cars[own]);
-    const bool near = near_other_car(scene, w, own);
     near_.insert(t, near ? 1 : 0);
     near_replay_ = near_replay_ || near;
     Frame& f = frames_.insert(t);
@@ -137,7 +137,7 @@ void Predictor::run_tick(const Scene& scene, std::size_t own, const Input& mine,
     fill_inputs(latest, own, t, inputs_);
     inputs_.resize(world_.cars.size());
     effective_inputs(world_, inputs_);
-    step_kept(scene, world_, inputs_, own);
+    step_kept(scene, world_, inputs_, own, near_other_car(scene, world_, own));
 }
 
 std::uint32_t Predictor::first_stale_tick(const proto::WorldSnapshot& snap, std::size_t own, std::uint32_t target) {
@@ -256,9 +256,10 @@ void Predictor::replay_tick(const Scene& scene, const proto::WorldSnapshot& snap
     // it) or in the replay.
     const char* was_near = near_.find(t);
     near_replay_ = near_replay_ || (was_near != nullptr && *was_near != 0);
+    const bool near = near_other_car(scene, replay_, own);  // every car active still
     const bool kept_next = t + 1 == target || holds(t + 1);
     if (!holds(t) || !kept_next || !find_reusable(scene, frame(t))) {
-        step_kept(scene, replay_, inputs_, own);
+        step_kept(scene, replay_, inputs_, own, near);
         return;
     }
     // The kept next tick (read before step_kept overwrites tick t's frame;
@@ -270,7 +271,7 @@ void Predictor::replay_tick(const Scene& scene, const proto::WorldSnapshot& snap
         if (reuse_[i]) replay_.cars[i].active = false;  // the step skips it
     }
     // step_kept keeps tick t's frame with the reused cars inactive: restore them.
-    step_kept(scene, replay_, inputs_, own);
+    step_kept(scene, replay_, inputs_, own, near);
     Frame& f = *frames_.find(t);  // step_kept just kept it
     for (std::size_t i = 0; i < n; ++i) {
         if (!reuse_[i]) continue;
@@ -279,10 +280,6 @@ void Predictor::replay_tick(const Scene& scene, const proto::WorldSnapshot& snap
         ++reused;
     }
     if (reuse_[own]) my_states_.insert(t, f.world.cars[own]);
-    // The step saw the reused cars inactive: whether one is near, again.
-    const bool near = near_other_car(scene, f.world, own);
-    near_.insert(t, near ? 1 : 0);
-    near_replay_ = near_replay_ || near;
     work_.reused_car_steps += reused;
 }
 

@@ -34,9 +34,8 @@ const char* to_string(DrawnCause c);
 /// The newest tick compared.
 struct DrawnTick {
     std::uint32_t tick = proto::kNoTick;
-    /// Where the own car was drawn, and where the server had it (unit: m).
+    /// Where the own car was drawn (unit: m).
     Vec3 drawn{0, 0, 0};
-    Vec3 server{0, 0, 0};
     /// Drawn exactly where the server had it, bit for bit.
     bool same = false;
     /// Drawn with a correction offset (which was fading).

@@ -110,9 +110,10 @@ private:
     /// The inputs tick t is stepped with, given the snapshot: the others'
     /// known ones, the own one kept for t (else the snapshot's for it).
     void fill_inputs(const proto::WorldSnapshot& snap, std::size_t own, std::uint32_t t, std::vector<Input>& out) const;
-    /// Keeps the frame of tick w.tick (and whether another car is near the
-    /// own one at its start), then steps w with `inputs`.
-    void step_kept(const Scene& scene, WorldState& w, const std::vector<Input>& inputs, std::size_t own);
+    /// Keeps the frame of tick w.tick and `near` (another car near the own
+    /// one at its start: near_other_car, with every car active), then steps
+    /// w with `inputs`.
+    void step_kept(const Scene& scene, WorldState& w, const std::vector<Input>& inputs, std::size_t own, bool near);
     /// The first tick from which the prediction must be stepped again.
     std::uint32_t first_stale_tick(const proto::WorldSnapshot& snap, std::size_t own, std::uint32_t target);
     bool holds(std::uint32_t t) const { return frames_.has(t); }
