@@ -47,6 +47,9 @@ struct Losses {
 
 /// What the server is hosted with: its socket, and the optional ops parts.
 struct Host {
+    /// --web-link: the browser links' conditions and input delays (or null);
+    /// declared before `transport`, which holds pointers into it.
+    std::unique_ptr<server::WebLink> web_link;
     std::unique_ptr<net::Transport> transport;
     /// --web: the WebSocket transport inside `transport`.
     const net::Transport* web = nullptr;
@@ -90,9 +93,14 @@ void print_race_end(const server::RaceEnd& end) {
     std::fflush(stdout);
 }
 
-void attach_files(server::RaceServer& srv, const server::HostOptions& o, const std::string& track, Losses& lost) {
-    srv.on_race_end = [&o, track, &lost](const server::RaceEnd& end) {
+void attach_files(server::RaceServer& srv, const server::HostOptions& o, const std::string& track, Losses& lost,
+                  const server::WebLink* web_link) {
+    srv.on_race_end = [&o, track, &lost, web_link](const server::RaceEnd& end) {
         print_race_end(end);
+        if (web_link) {
+            std::printf("%s\n", web_link->report().c_str());
+            std::fflush(stdout);
+        }
         std::string error;
         if (!o.results_path.empty() && !server::write_results(o.results_path, end, track, o.cfg.laps, error)) {
             ++lost.results;
@@ -143,7 +151,9 @@ bool open_host(const server::HostOptions& o, Host& host) {
     }
     std::printf("listening on %s:%u\n", o.net_cfg.bind.c_str(), host.transport->local_port());
     if (o.web) {
-        host.transport = server::open_web(*o.web, o.rtc, std::move(host.transport), host.web, host.rtc);
+        if (o.web_link) host.web_link = std::make_unique<server::WebLink>(*o.web_link);
+        host.transport =
+            server::open_web(*o.web, o.rtc, std::move(host.transport), host.web, host.rtc, host.web_link.get());
         if (!host.transport) return false;
     }
     if (!o.hosting.metrics_host.empty()) {
@@ -281,7 +291,7 @@ int main(int argc, char** argv) {
         srv.observer = host.recorder.get();
     }
     Losses lost;
-    attach_files(srv, o, scene->track.name, lost);
+    attach_files(srv, o, scene->track.name, lost, host.web_link.get());
     server::TickTimes tick_ms;
     const int rc = run(srv, host, o, tick_ms);
     // After the last race (or a signal): the GameServer is done.

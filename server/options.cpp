@@ -169,7 +169,7 @@ int parse_host_options(int argc, char** argv, HostOptions& o) {
     }
     jetrace::cli::log_to_stderr("server", o.log_level);
     if (!apply_hosting(hosting, o.hosting)) return 2;
-    if (!apply_web(web, o.net_cfg.max_pending_per_address, o.web, o.rtc)) return 2;
+    if (!apply_web(web, o.net_cfg.max_pending_per_address, o.web, o.rtc, o.web_link)) return 2;
     return -1;
 }
 

@@ -37,6 +37,8 @@ struct HostOptions {
     std::optional<web::WebConfig> web;
     /// --web without --no-webrtc: browsers' WebRTC data channels.
     std::optional<rtc::RtcConfig> rtc;
+    /// --web-link: conditions on browsers' links (none: as they are).
+    std::optional<net::Conditions> web_link;
 };
 
 /// Parses the command line. -1: go on; else the exit code (0 for --help).

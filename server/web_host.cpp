@@ -39,14 +39,20 @@ void add_web_options(CLI::App& app, WebFlags& f) {
                    "--webrtc-port)")
         ->check(CLI::Range(1, 65535));
     app.add_flag("--no-webrtc", f.no_webrtc, "browsers race over WebSocket only: no WebRTC data channels");
+    app.add_option("--web-link", f.web_link,
+                   "network conditions on browser players' links, both directions, on the server's clock: "
+                   "NAME=VALUE,... with latency, jitter (ms), loss, dup, reorder (probabilities), rate (kbit/s), "
+                   "retransmit (ms; default 1.25 round trips, at least 20): what jetrace-netsim does to ENet "
+                   "(tests, measurements)");
 }
 
 bool apply_web(const WebFlags& f, std::size_t pending_cap, std::optional<web::WebConfig>& out,
-               std::optional<rtc::RtcConfig>& rtc) {
+               std::optional<rtc::RtcConfig>& rtc, std::optional<net::Conditions>& link) {
     if (f.web.empty()) {
         if (!f.origins.empty() || !f.cert_file.empty() || !f.key_file.empty() || f.webrtc_port >= 0 ||
-            !f.webrtc_address.empty() || f.webrtc_candidate_port != 0 || f.no_webrtc) {
-            std::fprintf(stderr, "jetrace-server: --web-origin, --web-cert, --web-key and the --webrtc flags need --web\n");
+            !f.webrtc_address.empty() || f.webrtc_candidate_port != 0 || f.no_webrtc || !f.web_link.empty()) {
+            std::fprintf(stderr, "jetrace-server: --web-origin, --web-cert, --web-key, --web-link and the --webrtc "
+                         "flags need --web\n");
             return false;
         }
         return true;
@@ -69,6 +75,13 @@ bool apply_web(const WebFlags& f, std::size_t pending_cap, std::optional<web::We
         return false;
     }
     out = c;
+    if (!f.web_link.empty()) {
+        link = parse_web_link(f.web_link, error);
+        if (!link) {
+            std::fprintf(stderr, "jetrace-server: --web-link: %s\n", error.c_str());
+            return false;
+        }
+    }
     if (f.no_webrtc) return true;
     rtc::RtcConfig r;
     r.bind = c.bind;
@@ -109,12 +122,13 @@ std::unique_ptr<net::Transport> open_rtc(const rtc::RtcConfig& r, web::WebConfig
 
 std::unique_ptr<net::Transport> open_web(web::WebConfig config, const std::optional<rtc::RtcConfig>& rtc,
                                          std::unique_ptr<net::Transport> enet, const net::Transport*& web_part,
-                                         const net::Transport*& rtc_part) {
+                                         const net::Transport*& rtc_part, WebLink* link) {
     std::unique_ptr<net::Transport> datachannels;
     if (rtc) {
         datachannels = open_rtc(*rtc, config);
         if (!datachannels) return nullptr;
         rtc_part = datachannels.get();
+        if (link) datachannels = link->wrap_webrtc(std::move(datachannels));
     }
     std::vector<std::string> missing;
     web::WebSite site = web::load_site({JETRACE_WEB_PAGE_DIR, JETRACE_NODE_MODULES_DIR, JETRACE_WEB_CLIENT_DIR}, missing);
@@ -130,6 +144,7 @@ std::unique_ptr<net::Transport> open_web(web::WebConfig config, const std::optio
         return nullptr;
     }
     web_part = web.get();
+    if (link) web = link->wrap_websocket(std::move(web));
     std::printf("web on %s:%u (open %s://%s:%u/ to race from a browser)\n", config.bind.c_str(), port,
                 config.cert_file.empty() ? "http" : "https", config.bind == "0.0.0.0" ? "HOST" : config.bind.c_str(),
                 port);

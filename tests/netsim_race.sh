@@ -3,7 +3,9 @@
 # 5 % loss, duplication, reordering in both directions) and 3 jetrace-bot
 # drivers, as separate processes on 127.0.0.1, one lap of `ring` at 4x real
 # time. Every bot must finish, the server must have seen 3 distinct players,
-# the proxy's counters must show the conditions at work (after SIGTERM), and
+# the proxy's counters must show the conditions at work (after SIGTERM) and
+# its input delay stay within the latency and jitter plus a few send
+# intervals, and
 # the replay must reproduce the server's final state hash.
 # Usage: netsim_race.sh SERVER BOT SIM NETSIM
 set -euo pipefail
@@ -46,7 +48,14 @@ for d in ("up", "down"):
     assert c[d]["forwarded"] > 500 and c[d]["dropped"] > 0, (d, c[d])
     out = c[d]["forwarded"] + c[d]["dropped"] + c[d]["rate_limited"] + c[d]["send_failed"] + c[d]["pending"]
     assert c[d]["received"] + c[d]["duplicated"] == out, (d, c[d])
-print("netsim counters ok")
+# Input delay (client -> server, first datagram carrying a tick to the first
+# forwarded with it): at least the latency, at most latency + jitter + a few
+# send intervals (a lost batch's inputs come with the next one).
+d = c["up"]["input_delay_ms"]
+assert d["n"] > 1000, d
+assert 15 <= d["p50"] <= 15 + 10 + 2, d
+assert d["p99"] <= 15 + 10 + 40, d
+print("netsim counters ok; input delay", d)
 PY
 server_hash="$(sed -n 's/^state_hash=//p' "$out/server.log" | tail -n 1)"
 replay_hash="$("$sim" --replay "$out/race.replay" | sed -n 's/^state_hash=//p')"

@@ -195,6 +195,46 @@ TEST(Scheduler, ReliableDatagramsAreNeverDroppedDuplicatedOrReordered) {
     EXPECT_EQ(s.stats().duplicated, 0u);
 }
 
+// The stream model: a "lost" reliable datagram is resent a retransmission
+// later, and every later one of its flow waits behind it (head-of-line
+// blocking); nothing is dropped and the order holds.
+TEST(Scheduler, RetransmissionHoldsBackTheRestOfTheStream) {
+    Conditions c;
+    c.latency_ms = 50;
+    c.loss = 0.05;
+    c.retransmit_ms = 125;
+    c.seed = jetrace::test::test_seed(29);
+    DatagramScheduler s(c);
+    std::vector<Send> sends;
+    for (std::uint64_t i = 0; i < 2000; ++i) sends.push_back({static_cast<double>(i) * 8.0, datagram(1, i, true)});
+    const auto got = run(s, std::move(sends), 1.0, 2000 * 8.0 + 20000);
+    ASSERT_EQ(got.size(), 2000u) << "a reliable datagram was lost";
+    std::size_t late = 0;
+    double worst = 0;
+    for (std::size_t i = 0; i < got.size(); ++i) {
+        ASSERT_EQ(got[i].id, i) << "out of order";
+        const double delay = got[i].at_ms - static_cast<double>(i) * 8.0;
+        ASSERT_GE(delay, 50.0);
+        worst = std::max(worst, delay);
+        if (delay > 60.0) ++late;
+    }
+    const auto resent = s.stats().retransmitted;
+    // About 5 % are resent; each holds back the ~15 sent during its 125 ms.
+    EXPECT_GT(resent, 60u);
+    EXPECT_LT(resent, 150u);
+    EXPECT_GT(late, resent * 5) << "the datagrams behind a resent one did not wait";
+    EXPECT_GE(worst, 175.0);
+    EXPECT_EQ(s.stats().dropped, 0u);
+
+    // Without retransmit_ms reliable datagrams pass untouched by loss.
+    c.retransmit_ms = 0;
+    DatagramScheduler plain(c);
+    std::vector<Send> again;
+    for (std::uint64_t i = 0; i < 100; ++i) again.push_back({static_cast<double>(i), datagram(1, i, true)});
+    for (const Arrival& a : run(plain, std::move(again), 1.0, 500)) EXPECT_EQ(a.at_ms, static_cast<double>(a.id) + 50);
+    EXPECT_EQ(plain.stats().retransmitted, 0u);
+}
+
 TEST(Scheduler, RateLimitsThroughputAndBoundsTheQueue) {
     Conditions c;
     c.rate_kbps = 800;  // 100 bytes per ms

@@ -23,6 +23,7 @@ DatagramScheduler::DatagramScheduler(const Conditions& conditions) : rng_(condit
     conditions_.rate_kbps = clamp_nonnegative(conditions.rate_kbps);
     conditions_.burst_bytes = clamp_nonnegative(conditions.burst_bytes);
     conditions_.rate_queue_ms = clamp_nonnegative(conditions.rate_queue_ms);
+    conditions_.retransmit_ms = clamp_nonnegative(conditions.retransmit_ms);
     conditions_.seed = conditions.seed;
 }
 
@@ -32,6 +33,18 @@ bool DatagramScheduler::later(const Item& a, const Item& b) {
 }
 
 double DatagramScheduler::uniform() { return static_cast<double>(rng_() >> 11) * 0x1.0p-53; }
+
+double DatagramScheduler::retransmission_wait() {
+    if (conditions_.retransmit_ms <= 0) return 0;
+    double wait = 0;
+    double timeout = conditions_.retransmit_ms;
+    for (int sends = 0; sends < kMaxResends && uniform() < conditions_.loss; ++sends) {
+        ++stats_.retransmitted;
+        wait += timeout;
+        timeout *= 2;
+    }
+    return wait;
+}
 
 void DatagramScheduler::enqueue(Item item) {
     item.seq = next_seq_++;
@@ -71,7 +84,8 @@ void DatagramScheduler::push(double now_ms, ScheduledDatagram datagram) {
     if (item.datagram.reliable) {
         const double jitter = uniform() * conditions_.jitter_ms;
         const double leave = *through_link(flow, now_ms, bytes, true);
-        item.release = std::max(leave + conditions_.latency_ms + jitter, flow.last_reliable);
+        const double resent = retransmission_wait();
+        item.release = std::max(leave + conditions_.latency_ms + jitter + resent, flow.last_reliable);
         flow.last_reliable = item.release;
         enqueue(std::move(item));
         return;

@@ -533,3 +533,18 @@ std::uint64_t physics_hash(const PhysicsSettings& s) {
 }
 
 }  // namespace jetrace::proto
+
+namespace jetrace::proto {
+
+bool input_batch_ticks(std::span<const std::uint8_t> bytes, std::uint32_t& first, std::uint32_t& last) {
+    Message m;
+    std::string error;
+    if (!decode(bytes, m, error)) return false;
+    const auto* batch = std::get_if<InputBatch>(&m);
+    if (!batch || batch->inputs.empty()) return false;
+    first = batch->first_tick;
+    last = batch->first_tick + static_cast<std::uint32_t>(batch->inputs.size() - 1);
+    return true;
+}
+
+}  // namespace jetrace::proto

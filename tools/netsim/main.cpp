@@ -9,6 +9,9 @@
 #include "jetrace/cli/finite.hpp"
 #include "jetrace/cli/logging.hpp"
 #include "jetrace/net/address.hpp"
+#include "jetrace/net/condition_spec.hpp"
+#include "jetrace/net/link_conditions.hpp"
+#include "jetrace/proto/messages.hpp"
 #include "udp_proxy.hpp"
 
 #include <CLI/CLI.hpp>
@@ -19,6 +22,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <optional>
 
 namespace {
@@ -28,11 +32,7 @@ void on_signal(int sig) { g_signal = sig; }
 
 // One condition as options: --NAME (both directions), --up-NAME, --down-NAME.
 struct ConditionOption {
-    const char* name;
-    const char* help;
-    double lo;
-    double hi;
-    double jetrace::net::Conditions::*field;
+    const jetrace::net::ConditionField* field;
     std::optional<double> both, up, down;
 };
 
@@ -41,6 +41,28 @@ nlohmann::json to_json(const jetrace::netsim::DirectionCounters& d) {
             {"dropped", d.scheduler.dropped},           {"duplicated", d.scheduler.duplicated},
             {"reordered", d.scheduler.reordered},       {"rate_limited", d.scheduler.rate_limited},
             {"send_failed", d.send_failed},             {"pending", d.pending}};
+}
+
+// The input ticks of the jetrace InputBatch inside an ENet datagram: ENet
+// puts a command's 16-bit big-endian data length right before its data,
+// and a packed InputBatch starts with 4 zero bytes and "JINP".
+std::optional<jetrace::net::SequenceRange> enet_input_ticks(std::span<const std::uint8_t> datagram) {
+    static constexpr std::uint8_t kMagic[8] = {0, 0, 0, 0, 'J', 'I', 'N', 'P'};
+    for (std::size_t at = 2; at + sizeof kMagic <= datagram.size(); ++at) {
+        if (std::memcmp(datagram.data() + at, kMagic, sizeof kMagic) != 0) continue;
+        const std::size_t length = (std::size_t{datagram[at - 2]} << 8) | datagram[at - 1];
+        if (at + length > datagram.size()) continue;
+        jetrace::net::SequenceRange r;
+        if (jetrace::proto::input_batch_ticks(datagram.subspan(at, length), r.first, r.last)) return r;
+    }
+    return std::nullopt;
+}
+
+nlohmann::json delay_json(const std::vector<double>& delays) {
+    return {{"n", delays.size()},
+            {"p50", jetrace::net::quantile(delays, 0.5)},
+            {"p99", jetrace::net::quantile(delays, 0.99)},
+            {"max", jetrace::net::quantile(delays, 1.0)}};
 }
 
 }  // namespace
@@ -58,25 +80,18 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0, 65535));
     app.add_option("--bind", cfg.bind, "address to listen on (IPv4)");
     app.add_option("--forward", forward, "the server, HOST:PORT")->required();
-    std::vector<ConditionOption> conditions = {
-        {"latency", "added one-way delay (ms)", 0, 10000, &jetrace::net::Conditions::latency_ms, {}, {}, {}},
-        {"jitter", "extra delay, uniform in [0, MS] (ms)", 0, 10000, &jetrace::net::Conditions::jitter_ms, {}, {}, {}},
-        {"loss", "probability a datagram is dropped", 0, 1, &jetrace::net::Conditions::loss, {}, {}, {}},
-        {"dup", "probability a datagram is duplicated", 0, 1, &jetrace::net::Conditions::duplicate, {}, {}, {}},
-        {"reorder", "probability a datagram is held behind the next", 0, 1, &jetrace::net::Conditions::reorder, {}, {},
-         {}},
-        {"rate", "bandwidth per client (kbit/s of payload; 0: unlimited)", 0, 1e7, &jetrace::net::Conditions::rate_kbps,
-         {}, {}, {}},
-        {"rate-burst", "token bucket size (bytes)", 1, 1e7, &jetrace::net::Conditions::burst_bytes, {}, {}, {}},
-        {"rate-queue", "longest wait for the link before a datagram is dropped (ms)", 0, 10000,
-         &jetrace::net::Conditions::rate_queue_ms, {}, {}, {}},
-    };
+    std::vector<ConditionOption> conditions;
+    for (const jetrace::net::ConditionField& f : jetrace::net::condition_fields()) {
+        // A UDP proxy sees no reliable datagrams: every one it drops stays dropped.
+        if (std::string_view(f.name) != "retransmit") conditions.push_back({&f, {}, {}, {}});
+    }
     for (ConditionOption& o : conditions) {
-        const CLI::Validator range = jetrace::cli::finite() & CLI::Range(o.lo, o.hi);
-        app.add_option(std::string("--") + o.name, o.both, std::string(o.help) + ", both directions")->check(range);
-        app.add_option(std::string("--up-") + o.name, o.up, std::string(o.help) + ", client -> server")->check(range);
-        app.add_option(std::string("--down-") + o.name, o.down, std::string(o.help) + ", server -> client")
-            ->check(range);
+        const CLI::Validator range = jetrace::cli::finite() & CLI::Range(o.field->lo, o.field->hi);
+        const std::string name = o.field->name;
+        const std::string help = o.field->help;
+        app.add_option("--" + name, o.both, help + ", both directions")->check(range);
+        app.add_option("--up-" + name, o.up, help + ", client -> server")->check(range);
+        app.add_option("--down-" + name, o.down, help + ", server -> client")->check(range);
     }
     app.add_option("--seed", seed, "seed of the random choices");
     app.add_option("--duration", duration_s, "exit after this many seconds (0: run until SIGINT/SIGTERM)")
@@ -94,9 +109,10 @@ int main(int argc, char** argv) {
     }
     cfg.port = static_cast<std::uint16_t>(listen_port);
     for (const ConditionOption& o : conditions) {
-        if (o.both) cfg.up.*o.field = cfg.down.*o.field = *o.both;
-        if (o.up) cfg.up.*o.field = *o.up;
-        if (o.down) cfg.down.*o.field = *o.down;
+        const auto member = o.field->field;
+        if (o.both) cfg.up.*member = cfg.down.*member = *o.both;
+        if (o.up) cfg.up.*member = *o.up;
+        if (o.down) cfg.down.*member = *o.down;
     }
     cfg.up.seed = seed;
     cfg.down.seed = seed ^ 0x9E3779B97F4A7C15ull;
@@ -107,6 +123,8 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "jetrace-netsim: %s\n", error.c_str());
         return 1;
     }
+    jetrace::net::SequenceDelayMeter input_delay(enet_input_ticks);
+    proxy->observe_up(&input_delay);
     std::printf("listening on %s:%u\n", cfg.bind.c_str(), proxy->local_port());
     std::fflush(stdout);
     spdlog::info("forwarding to {}:{}; up: {} ms + [0, {}] ms, loss {}, rate {} kbit/s; down: {} ms + [0, {}] ms, "
@@ -130,6 +148,9 @@ int main(int argc, char** argv) {
     nlohmann::json j;
     j["up"] = to_json(c.up);
     j["down"] = to_json(c.down);
+    // Client -> server: from the first datagram carrying an input tick to
+    // the first one forwarded with it (lost ones included: redundancy).
+    if (!input_delay.delays_ms().empty()) j["up"]["input_delay_ms"] = delay_json(input_delay.delays_ms());
     j["clients"] = c.clients;
     j["clients_expired"] = c.clients_expired;
     j["clients_refused"] = c.clients_refused;

@@ -189,6 +189,7 @@ void UdpProxy::read_clients(double now) {
         net::ScheduledDatagram d;
         d.flow = by_address_.at(pack(from));
         d.data.assign(buffer_.begin(), buffer_.begin() + n);
+        if (up_observer_) up_observer_->arrived(static_cast<net::PeerId>(d.flow), now, d.data);
         up_.push(now, std::move(d));
     }
 }
@@ -211,6 +212,7 @@ void UdpProxy::send_due(double now) {
     for (const auto& d : due_) {
         const auto it = sessions_.find(d.flow);
         if (it != sessions_.end() && ::send(it->second.fd, d.data.data(), d.data.size(), 0) >= 0) {
+            if (up_observer_) up_observer_->delivered(static_cast<net::PeerId>(d.flow), now, d.data);
             ++counters_.up.forwarded;
             counters_.up.forwarded_bytes += d.data.size();
         } else {

@@ -7,6 +7,7 @@
 // the clock.
 #pragma once
 
+#include "jetrace/net/link_conditions.hpp"
 #include "jetrace/net/scheduler.hpp"
 
 #include <netinet/in.h>
@@ -81,6 +82,10 @@ public:
     /// poll() fails for a reason other than a signal.
     bool step(int max_wait_ms);
     ProxyCounters counters() const;
+    /// Shows `observer` every client -> server datagram as it arrives and as
+    /// it is forwarded (peer: the client's flow id); null: none. It must
+    /// outlive the proxy.
+    void observe_up(net::LinkObserver* observer) { up_observer_ = observer; }
     /// Clients with an upstream socket now.
     std::size_t sessions() const { return sessions_.size(); }
 
@@ -113,6 +118,7 @@ private:
     ProxyCounters counters_;
     std::vector<std::uint8_t> buffer_;
     std::vector<net::ScheduledDatagram> due_;
+    net::LinkObserver* up_observer_ = nullptr;
 };
 
 }  // namespace jetrace::netsim

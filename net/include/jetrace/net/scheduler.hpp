@@ -7,7 +7,10 @@
 // What happens to a datagram pushed at time `now` (all per flow: a peer, a
 // client address...):
 //   1. Reliable ones skip 2 and 4-5; their release times never decrease, so
-//      they keep their order and are never dropped.
+//      they keep their order and are never dropped. With `retransmit_ms` set
+//      a reliable one is "lost" with probability `loss` and released a
+//      retransmission later instead (the model of a reliable stream, such
+//      as TCP: it, and every later reliable one of its flow, waits).
 //   2. loss: dropped with probability `loss` (before the link: it costs no
 //      bandwidth).
 //   3. rate: the flow's link sends `rate_kbps` through a token bucket of
@@ -57,6 +60,12 @@ struct Conditions {
     /// An unreliable datagram that would wait longer than this for the link
     /// is dropped (unit: ms).
     double rate_queue_ms = 100;
+    /// Reliable datagrams: 0 = never lost here (the reliability layer is
+    /// below, as ENet's under the condition() decorator). Above 0: each send
+    /// of one is lost with probability `loss` and resent this much later,
+    /// the wait doubling with each loss (at most kMaxResends), as a TCP or
+    /// SCTP sender's retransmission (unit: ms).
+    double retransmit_ms = 0;
     /// Seed of the random choices.
     std::uint64_t seed = 1;
 };
@@ -90,6 +99,8 @@ struct SchedulerStats {
     std::uint64_t reordered = 0;
     /// Datagrams (copies included) queued with a release time after their push.
     std::uint64_t delayed = 0;
+    /// Resends of reliable datagrams (Conditions::retransmit_ms).
+    std::uint64_t retransmitted = 0;
 };
 
 class DatagramScheduler {
@@ -119,6 +130,8 @@ public:
 
     /// A held datagram with no successor is let go alone after this long (unit: ms).
     static constexpr double kMaxHoldMs = 100.0;
+    /// The most resends of one reliable datagram (Conditions::retransmit_ms).
+    static constexpr int kMaxResends = 6;
 
 private:
     struct Item {
@@ -139,6 +152,8 @@ private:
 
     static bool later(const Item& a, const Item& b);
     double uniform();
+    /// The extra wait of a reliable datagram for its resends (unit: ms).
+    double retransmission_wait();
     void enqueue(Item item);
     void release_overdue_held(double now_ms);
     /// When `bytes` pushed at `now_ms` leave the flow's link; nullopt if the

@@ -202,6 +202,10 @@ std::vector<std::uint8_t> encode(const Message& m);
 /// malformed, truncated, oversized, too deeply nested or out of range.
 bool decode(std::span<const std::uint8_t> bytes, Message& out, std::string& error);
 
+/// The ticks an encoded InputBatch carries: `first` = first_tick, `last` =
+/// first_tick + count − 1. False if `bytes` is not a valid InputBatch.
+bool input_batch_ticks(std::span<const std::uint8_t> bytes, std::uint32_t& first, std::uint32_t& last);
+
 /// True for valid UTF-8 without control characters: the rule every text
 /// field of the protocol follows (see docs/PROTOCOL.md, "Validation").
 bool valid_text(std::string_view text);
