@@ -31,9 +31,9 @@ void ClientClock::start(std::uint64_t now_us, double rtt_ms) {
     clock_.bring_forward(lead_us);
 }
 
-void ClientClock::resync(std::uint64_t now_us) {
+void ClientClock::resync(std::uint64_t now_us, double rtt_ms) {
     ++resyncs_;
-    clock_.restart(now_us);
+    start(now_us, rtt_ms);
 }
 
 void ClientClock::adjust(proto::RacePhase phase, std::int16_t input_margin_ticks, double rtt_variance_ms) {

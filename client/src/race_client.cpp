@@ -211,7 +211,7 @@ void RaceClient::reconcile(const proto::WorldSnapshot& snap) {
     stats_.replayed_ticks = predictor_.work().replayed_ticks;
     stats_.skipped_replays = predictor_.work().skipped_replays;
     stats_.reused_car_steps = predictor_.work().reused_car_steps;
-    if (o.resynced) return clock_.resync(now_us_);  // behind the server: the clock catches up
+    if (o.resynced) return clock_.resync(now_us_, link_.rtt_ms());  // behind the server: the clock catches up
     if (o.corrected) {
         ++stats_.corrections;
         if (cause == DrawnCause::late_input) ++stats_.corrections_late;

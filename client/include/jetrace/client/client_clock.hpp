@@ -28,8 +28,11 @@ public:
     /// Ticks from `now_us` on, ahead of the server by the estimated lead
     /// (the round trip, the target margin and two ticks; at most 30 ticks).
     void start(std::uint64_t now_us, double rtt_ms);
-    /// The prediction fell behind the server: ticks from `now_us` on.
-    void resync(std::uint64_t now_us);
+    /// The prediction fell behind the server (it took a snapshot's state):
+    /// ticks from `now_us` on, ahead by the lead again, as start() (a
+    /// restart without it would leave the client at the server's tick,
+    /// every input late, until the next snapshot put it behind again).
+    void resync(std::uint64_t now_us, double rtt_ms);
     /// Steers the lead by the server's input margin of a snapshot (only
     /// while the race counts down or runs, and once the server has inputs),
     /// less the input delay.
