@@ -208,6 +208,14 @@ TEST(SequenceDelayMeter, FirstArrivalToFirstHandOnPerPeer) {
     m.delivered(1, 150, numbers(0, 1));
     EXPECT_EQ(m.delays_ms().back(), 50);
     EXPECT_EQ(m.delays_ms().size(), 6u);
+    // A race that ended at tick 400 and one that starts at 0: the old
+    // first arrivals of ticks 0..400 must not be taken for the new ones.
+    SequenceDelayMeter r(range_of);
+    for (std::uint32_t t = 0; t <= 400; ++t) r.arrived(3, t, numbers(t, t));
+    for (std::uint32_t t = 0; t <= 400; ++t) r.delivered(3, t + 10.0, numbers(t, t));
+    r.arrived(3, 1000, numbers(0, 2));
+    r.delivered(3, 1020, numbers(0, 2));
+    EXPECT_EQ(r.delays_ms().back(), 20) << "a new race's ticks measured against the last race's arrivals";
 }
 
 TEST(ConditionSpec, ParsesKnownNamesAndRejectsTheRest) {

@@ -9,13 +9,16 @@
 namespace jetrace::net {
 namespace {
 
-/// A range ending more than a window behind the peer's newest number, or
-/// this far ahead of it, starts the peer afresh (a new race: input ticks
-/// restart at 0) (unit: sequence numbers).
+/// A range ending this far behind the peer's newest number, or this far
+/// ahead of it, starts the peer afresh (a new race: input ticks restart at
+/// 0). A batch repeats at most 64 inputs and reordering holds one back for
+/// at most 100 ms, so an honest range is never this far behind (unit:
+/// sequence numbers).
+constexpr std::uint32_t kBack = 256;
 constexpr std::uint32_t kJumpAhead = 4 * SequenceDelayMeter::kWindow;
 
 bool far_from(std::uint32_t last, std::uint32_t newest) {
-    return last + SequenceDelayMeter::kWindow < newest || last > newest + kJumpAhead;
+    return last + kBack < newest || last > newest + kJumpAhead;
 }
 
 }  // namespace
