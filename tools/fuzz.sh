@@ -10,7 +10,9 @@
 # (reproduce: build-fuzz/fuzz/fuzz_<target> FILE; keep it as a regression:
 # copy it into fuzz/corpus/<target>/).
 # Targets run side by side, one a core (JETRACE_JOBS, default: the cores).
-# Options: JETRACE_FUZZ_TARGETS="a b" runs only those targets.
+# Options: JETRACE_FUZZ_TARGETS="a b" runs only those targets;
+# JETRACE_FUZZ_BUILD=DIR uses a build dir configured with -DJETRACE_FUZZ=ON
+# (tools/test.sh's sanitizer build) instead of build-fuzz/.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 seconds="${1:-15}"
@@ -18,7 +20,7 @@ if ! [[ "$seconds" =~ ^[1-9][0-9]*$ ]]; then
   echo "usage: tools/fuzz.sh [seconds_per_target] (a whole number >= 1, got '$seconds')" >&2
   exit 2
 fi
-build="$root/build-fuzz"
+build="${JETRACE_FUZZ_BUILD:-$root/build-fuzz}"
 launcher=()
 if command -v ccache >/dev/null 2>&1; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
 if [ ! -f "$build/CMakeCache.txt" ]; then

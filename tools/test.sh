@@ -13,9 +13,11 @@
 #      WebAssembly (build-wasm/, run under node) and checks that they and the
 #      native build print that same golden state hash (tools/cross.sh),
 #   5. builds everything with AddressSanitizer + UndefinedBehaviorSanitizer
-#      (g++ -O1, asserts on) into build-asan/ and runs the whole CTest suite
-#      there (the fuzz corpus replays included),
-#   6. runs every libFuzzer target for a bounded time (tools/fuzz.sh).
+#      and libFuzzer's coverage (clang++ -O1, asserts on) into build-asan/
+#      and runs the whole CTest suite there (the fuzz corpus replays
+#      included),
+#   6. runs every libFuzzer target of that build for a bounded time
+#      (tools/fuzz.sh).
 # Options: JETRACE_TEST_LABELS="quick" to run only some labels (default: all);
 # JETRACE_FUZZ_SECONDS per fuzz target (default 10).
 set -euo pipefail
@@ -41,13 +43,15 @@ done
 echo "== cross-platform: the golden state hash on x86-64, aarch64 (qemu) and wasm (node) (tools/cross.sh)"
 "$root/tools/cross.sh"
 
-echo "== sanitizers: ASan + UBSan build of the whole suite (build-asan/)"
+echo "== sanitizers: ASan + UBSan build of the whole suite and the fuzz targets (clang++, build-asan/)"
+# One build for both: clang++ with coverage for libFuzzer in every library,
+# so the fuzz targets link against the libraries the suite tests.
 asan="$root/build-asan"
 if [ ! -f "$asan/CMakeCache.txt" ]; then
   launcher=()
   if command -v ccache >/dev/null 2>&1; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
-  cmake -S "$root" -B "$asan" -G Ninja -DJETRACE_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug \
-    -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" "${launcher[@]}" >/dev/null
+  cmake -S "$root" -B "$asan" -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DJETRACE_SANITIZE=ON -DJETRACE_FUZZ=ON \
+    -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" "${launcher[@]}" >/dev/null
 fi
 cmake --build "$asan" -j "$(nproc)"
 # The loopback races run on virtual time over real sockets: under ASan they
@@ -64,5 +68,5 @@ ctest --test-dir "$asan" --output-on-failure -j "$(nproc)" -LE "net|realtime|ben
 # in-process suites drive the same server code here.
 ctest --test-dir "$asan" --output-on-failure -L net -LE "realtime|hosting" "${labels[@]}"
 
-echo "== fuzzing: every target for ${JETRACE_FUZZ_SECONDS:-10} s (tools/fuzz.sh)"
-"$root/tools/fuzz.sh" "${JETRACE_FUZZ_SECONDS:-10}"
+echo "== fuzzing: every target for ${JETRACE_FUZZ_SECONDS:-10} s (tools/fuzz.sh, the targets of build-asan/)"
+JETRACE_FUZZ_BUILD="$asan" "$root/tools/fuzz.sh" "${JETRACE_FUZZ_SECONDS:-10}"

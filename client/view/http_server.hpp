@@ -15,7 +15,7 @@ namespace jetrace::view {
 
 class HttpServer {
 public:
-    HttpServer(boost::asio::io_context& io, ViewContext& ctx) : io_(io), acceptor_(io), ctx_(ctx) {}
+    HttpServer(boost::asio::io_context& io, ViewContext& ctx) : acceptor_(io), ctx_(ctx) {}
     /// Binds and listens; false with a reason.
     bool listen(const std::string& host, std::uint16_t port, std::string& error);
     /// The bound endpoint (the real port when 0 was asked for).
@@ -26,7 +26,6 @@ public:
 private:
     void accept_next();
 
-    boost::asio::io_context& io_;
     boost::asio::ip::tcp::acceptor acceptor_;
     ViewContext& ctx_;
 };

@@ -125,9 +125,12 @@ double longest_edge(const Triangle& t) {
                << " d_oracle=" << d_ref << " diff=" << (d_impl - d_ref) << " tol=" << tol;
     };
     if (!(std::abs(d_impl - d_ref) <= tol)) return fail("distance differs from the oracle");
-    // The returned point is on the triangle.
+    // The returned point is on the triangle: to 1e-9 of its size, and for a
+    // sliver to the same conditioning bound as the distance (its plane comes
+    // from the same cross product with a tiny edge).
     const double scale = std::max(longest_edge(t), 1.0);
-    if (!(oracle_distance(cp.point, t) <= 1e-9 * scale)) return fail("returned point is not on the triangle");
+    const double on_tol = t.thin ? std::max(1e-9 * scale, tol) : 1e-9 * scale;
+    if (!(oracle_distance(cp.point, t) <= on_tol)) return fail("returned point is not on the triangle");
     // Region consistency.
     switch (cp.region) {
         case TriRegion::vertex_a:
