@@ -3,7 +3,8 @@
 // opens BASE_URL?name=NAME (&transport=websocket for "websocket"), checks
 // that the page races over that transport, drives with the keys a player
 // would press (the follow-the-gates helper of the drive tests) until its
-// car finishes, and prints one JSON line: the page's network figures (the
+// car finishes, stays until the server closes after the race, and prints
+// one JSON line: the page's network figures (the
 // client's `net`), its transport, and whether it finished.
 // Usage: node race_page.mjs BASE_URL TRANSPORT NAME (TRANSPORT: webrtc | websocket)
 import { launchChromium } from '../../tests/browser/page_checks.mjs';
@@ -44,6 +45,13 @@ try {
     else await new Promise((r) => setTimeout(r, 20));
   }
   await hold(page, held, new Set());
+  // The page's standings come from its own view of the race: it stays
+  // connected until the server ends the race and closes (the server's
+  // results must list it as finished too).
+  for (const start = Date.now(); finished && !s.closed && Date.now() - start < guard;) {
+    await new Promise((r) => setTimeout(r, 100));
+    s = await state(page);
+  }
   s = await state(page);
   console.log(JSON.stringify({ name, transport: s.transport, finished, net: s.net }));
   if (!finished) code = 1;

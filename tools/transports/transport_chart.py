@@ -124,11 +124,11 @@ def run_one(a, transport, loss, seed, work):
         link = [j for j in json_lines(slog) if "web_link" in j][-1]["web_link"][transport]
         delay = link["input_delay_ms"]
         t = standings["page"]["time_s"]
-        players = [(page["net"]["corrections"], page["net"]["max_correction_m"], t, page["finished"])]
+        players = [(page["net"]["corrections"], page["net"]["max_correction_m"], t, standings["page"]["finished"])]
     else:
         delay = [j for j in json_lines(nlog) if "up" in j][-1]["up"]["input_delay_ms"]
-        players = [(b["corrections"], b["max_correction_m"], standings[b["name"]]["time_s"], b["finished"])
-                   for b in json_lines(blog) if "corrections" in b]
+        players = [(b["corrections"], b["max_correction_m"], standings[b["name"]]["time_s"],
+                    standings[b["name"]]["finished"]) for b in json_lines(blog) if "corrections" in b]
     per_min = [c / (t / 60) for c, _, t, fin in players if fin and t > 0]
     return {
         "transport": transport, "loss_percent": loss, "latency_ms": a.latency, "cars": a.cars, "seed": seed,
