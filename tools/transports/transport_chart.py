@@ -25,6 +25,7 @@ JSON line per run.
 
 Usage: tools/transports/transport_chart.py [--losses 0,1,2,5,10] [--latency 50]
        [--cars 8] [--laps 1] [--repeats 1] [--seed 1] [--build build] [--out docs/charts] [--logs DIR]
+       tools/transports/transport_chart.py --csv A.csv [--csv B.csv] [--out DIR]   (draw again from runs' CSV)
 """
 import argparse
 import csv
@@ -170,7 +171,7 @@ def plot(rows, out):
     cars = rows[0]["cars"]
     script = [f"set terminal svg size 960,720 font 'sans,12' background '#ffffff'",
               f"set output '{os.path.join(out, 'transports.svg')}'",
-              f"set multiplot layout 2,2 title '{cars} cars, {latency} ms one way, loss both ways'",
+              f"set multiplot layout 2,2 title '{cars:g} cars, {latency:g} ms one way, loss both ways (medians)'",
               "set key top left", "set grid", "set xlabel 'loss (%)'"]
     styles = {"enet": "lc rgb '#1b9e77' pt 7", "webrtc": "lc rgb '#7570b3' pt 5", "websocket": "lc rgb '#d95f02' pt 9"}
     names = {"enet": "ENet (bots)", "webrtc": "WebRTC data channel (page)", "websocket": "WebSocket (page)"}
@@ -194,6 +195,8 @@ def main():
     p.add_argument("--build", default="build")
     p.add_argument("--out", default="docs/charts")
     p.add_argument("--logs", default="", help="keep each run's logs in DIR/TRANSPORT_LOSS_REPEAT")
+    p.add_argument("--csv", action="append", default=[],
+                   help="draw from this CSV of earlier runs (repeatable: their rows are pooled) instead of racing")
     a = p.parse_args()
     try:
         losses = [float(x) for x in a.losses.split(",")]
@@ -205,6 +208,15 @@ def main():
         p.error("--latency must be in [0, 1000]")
     if not 2 <= a.cars <= 16 or not 1 <= a.laps <= 10 or not 1 <= a.repeats <= 20:
         p.error("--cars 2..16, --laps 1..10, --repeats 1..20")
+    out = os.path.join(ROOT, a.out) if not os.path.isabs(a.out) else a.out
+    if a.csv:
+        rows = []
+        for path in a.csv:
+            with open(path) as f:
+                for r in csv.DictReader(f):
+                    rows.append({k: (v if k == "transport" else float(v)) for k, v in r.items()})
+        plot(rows, out)
+        return
     transports = a.transports.split(",")
     if any(t not in TRANSPORTS for t in transports):
         p.error(f"--transports: {TRANSPORTS}")
@@ -221,7 +233,7 @@ def main():
                         row = run_one(a, t, loss, a.seed + r, work)
                 print(json.dumps(row), flush=True)
                 rows.append(row)
-    plot(rows, os.path.join(ROOT, a.out) if not os.path.isabs(a.out) else a.out)
+    plot(rows, out)
 
 
 if __name__ == "__main__":
