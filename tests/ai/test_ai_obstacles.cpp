@@ -110,3 +110,60 @@ TEST(AiObstacles, ARampUpToAGateOnAPlateauAndTheDropOffIt) {
     m.quad(Vec3(-20, 0, -70), Vec3(80, 0, -70), Vec3(80, 8, -70), Vec3(20, 8, -70));
     expect_finish("plateau", jetrace::test::track_of(m, rectangle(8), grid_behind(-100, -100)));
 }
+
+TEST(AiObstacles, ABlockAcrossTheStraightLineBetweenTwoGatesIsDrivenRound) {
+    // A 16 m square block, 4 m tall, on the middle of the leg from gate 2
+    // (150, 0) to gate 3 (0, 100): the straight line runs into it.
+    Mesh m;
+    m.floor(-200, -150, 200, 150, 0);
+    m.block(75, 50, 8, 0, 4);
+    expect_finish("mid-leg block", jetrace::test::track_of(m, rectangle(), grid_behind(-100, -100)));
+}
+
+TEST(AiObstacles, ACarRollingBackwardsDrivesForwards) {
+    // On the ground before gate 1, nose towards it, rolling backwards at
+    // speeds round the approach speed: thrust (and the brake) at each, never
+    // a coast.
+    Mesh m;
+    m.floor(-200, -150, 200, 150, 0);
+    const jetrace::Scene scene =
+        jetrace::Scene::make(jetrace::test::track_of(m, rectangle(), grid_behind(-100, -100)), jetrace::PhysicsSettings{});
+    const jetrace::Course course(scene);
+    jetrace::WorldState st = jetrace::start_race(scene, 1, 1);
+    for (double back : {2.0, 10.0, 14.0, 15.0, 16.0, 20.0, 40.0}) {
+        jetrace::CarState& car = st.cars[0];
+        jetrace::place_car(car, Pose{Vec3(30, kRest_m, -100), Vec3(1, 0, 0), Vec3(0, 1, 0)});
+        car.next_checkpoint = 1;
+        car.velocity = Vec3(-back, 0, 0);
+        const jetrace::Input in = jetrace::drive(course, st, 0);
+        EXPECT_EQ(in.throttle, jetrace::Input::kMaxThrottle) << "rolling back at " << back << " m/s";
+        EXPECT_EQ(in.brake, 1) << "rolling back at " << back << " m/s";
+    }
+}
+
+TEST(AiObstacles, ACarPinnedNoseFirstAgainstABlockGetsRoundItBeforeItsRespawn) {
+    // At rest, nose against the side of a 16 m block (x 67 to 83, z 42 to
+    // 58) that stands on the straight line to its next gate (gate 3 at
+    // (0, 100)): within the no-progress window (10 s) it turns along the
+    // block, drives round it and through the gate. Three places along the
+    // block's side.
+    Mesh m;
+    m.floor(-200, -150, 200, 150, 0);
+    m.block(75, 50, 8, 0, 4);
+    const jetrace::Scene scene =
+        jetrace::Scene::make(jetrace::test::track_of(m, rectangle(), grid_behind(-100, -100)), jetrace::PhysicsSettings{});
+    const jetrace::Course course(scene);
+    for (const double z : {46.0, 50.0, 54.0}) {
+        jetrace::WorldState st = jetrace::start_race(scene, 1, 1);
+        jetrace::CarState& car = st.cars[0];
+        jetrace::place_car(car, Pose{Vec3(83 + kRest_m + 0.05, kRest_m, z), Vec3(-1, 0, 0), Vec3(0, 1, 0)});
+        car.next_checkpoint = 3;
+        car.respawn_checkpoint = 2;
+        car.lap = 1;
+        jetrace::StepScratch scratch;
+        jetrace::run_ai(course, st, jetrace::skills_for(1, 1), static_cast<std::uint32_t>(9.5 * 120), false, scratch);
+        EXPECT_EQ(car.respawns, 0u) << "from z = " << z;
+        EXPECT_NE(car.next_checkpoint, 3) << "from z = " << z << ": still before gate 3 at (" << car.position.x()
+                                          << ", " << car.position.z() << ")";
+    }
+}

@@ -4,6 +4,7 @@
 // docs/tracks/truck_town.track.json, and the OBJ levels fdm6, pandora and
 // dutility).
 #include "jetrace/ai/offline_race.hpp"
+#include "jetrace/ai/road_profile.hpp"
 #include "jetrace/tracks/builtin_tracks.hpp"
 #include "jetrace/tracks/track_io.hpp"
 
@@ -121,4 +122,34 @@ TEST(AiTracks, SevenOfEightFinishALapOfEachObjLevel) {
             EXPECT_GE(finishers(t, 8, 1, 120, seed, respawns), 7) << level << ", skill seed " << seed;
         }
     }
+}
+
+TEST(AiTracks, TruckTownWithItsWindingFlippedIsReadAndRacedAlike) {
+    // A mesh exported with its winding flipped: every floor faces down and
+    // every ceiling up. The physics drives on faces either way; the AI's
+    // road profile (its crests) reads the same road, and the cars finish.
+    const jetrace::Track t = truck_town();
+    jetrace::Track flipped = t;
+    flipped.triangles.clear();
+    for (const jetrace::Triangle& tri : t.triangles) jetrace::add_triangle(flipped, tri.a, tri.c, tri.b);
+    const jetrace::Scene a = jetrace::Scene::make(jetrace::Track(t), jetrace::PhysicsSettings{});
+    const jetrace::Scene b = jetrace::Scene::make(jetrace::Track(flipped), jetrace::PhysicsSettings{});
+    const jetrace::RoadProfile ra = jetrace::RoadProfile::build(a.track, a.grid);
+    const jetrace::RoadProfile rb = jetrace::RoadProfile::build(b.track, b.grid);
+    ASSERT_EQ(ra.legs(), rb.legs());
+    int road = 0;
+    for (std::int32_t leg = 0; leg < static_cast<std::int32_t>(ra.legs()); ++leg) {
+        for (int s = 0; s <= 200; ++s) {
+            double ya = 0, yb = 0;
+            const bool oka = ra.height(leg, s / 200.0, ya), okb = rb.height(leg, s / 200.0, yb);
+            ASSERT_EQ(oka, okb) << "leg " << leg << " sample " << s;
+            if (!oka) continue;
+            ++road;
+            EXPECT_NEAR(ya, yb, 2 * jetrace::RoadProfile::kResolution_m) << "leg " << leg << " sample " << s;
+        }
+    }
+    EXPECT_GT(road, 0);
+    int respawns = 0;
+    EXPECT_EQ(finishers(std::move(flipped), 8, 1, 120, 1, respawns), 8);
+    EXPECT_LE(respawns, 3);
 }

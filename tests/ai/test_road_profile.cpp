@@ -110,7 +110,7 @@ TEST(RoadProfile, ReadsTheRoadNearestBelowTheRouteNotADeckAboveOrAFloorFarBelow)
     std::vector<Vec3> v;
     std::vector<std::uint32_t> idx;
     add_quad(v, idx, -150, -150, 150, 150, 0, 0);  // the floor, y = 0
-    add_quad(v, idx, 80, -30, 120, 30, 0, 10);     // a deck across leg 1, y = 10
+    add_quad(v, idx, 80, -110, 120, 110, 0, 10);   // a deck along leg 1, y = 10
     std::vector<Checkpoint> gates = square_route(0);
     // Under the deck (route at y = 1, the deck 9 m above): the floor.
     const Scene under = scene_of(v, idx, gates);
@@ -129,4 +129,57 @@ TEST(RoadProfile, ReadsTheRoadNearestBelowTheRouteNotADeckAboveOrAFloorFarBelow)
     gates[1].center.y() = 60;
     const Scene high = scene_of(v, idx, gates);
     EXPECT_FALSE(road_of(high).height(1, 0.5, y));
+}
+
+// Faces wound either way are road (the physics drives on them alike): a
+// floor whose faces point down, under a ceiling whose faces point up 3 m
+// above the route line (a mesh exported with its winding flipped), reads
+// as the floor, the same heights as the floor wound upwards.
+TEST(RoadProfile, ReadsTheFloorWhicheverWayItsFacesAreWoundNotTheCeilingAboveIt) {
+    constexpr double kSlope = 0.2;
+    auto build = [&](bool flip) {
+        std::vector<Vec3> v;
+        std::vector<std::uint32_t> idx;
+        add_quad(v, idx, -150, -150, 150, 150, kSlope, 0);  // the floor
+        add_quad(v, idx, -150, -150, 150, 150, kSlope, 4);  // the ceiling, 4 m above it
+        if (flip) {
+            for (std::size_t i = 0; i + 2 < idx.size(); i += 3) std::swap(idx[i + 1], idx[i + 2]);
+        }
+        return scene_of(v, idx, square_route(kSlope));
+    };
+    const Scene up = build(false), flipped = build(true);
+    ASSERT_LT(flipped.track.triangles[0].normal().y(), 0.0);
+    const RoadProfile a = road_of(up), b = road_of(flipped);
+    for (int leg = 0; leg < 4; ++leg) {
+        for (int s = 0; s <= 50; ++s) {
+            const double t = s / 50.0;
+            const Vec3 p = on_leg(flipped, leg, t);
+            double ya = -1.0, yb = -1.0;
+            ASSERT_TRUE(a.height(leg, t, ya)) << "leg " << leg << " t " << t;
+            ASSERT_TRUE(b.height(leg, t, yb)) << "leg " << leg << " t " << t;
+            EXPECT_NEAR(yb, kSlope * p.x(), jetrace::RoadProfile::kResolution_m) << "leg " << leg << " t " << t;
+            EXPECT_EQ(ya, yb) << "leg " << leg << " t " << t;
+        }
+    }
+}
+
+// A step up of more than 1.25 m along a leg is not the road driven on (it
+// is a block's top, or a deck overhead): the road goes on at the floor,
+// and the block is marked as an obstacle on the route.
+TEST(RoadProfile, GoesOnAtTheFloorUnderABlockTopHigherThanAStep) {
+    std::vector<Vec3> v;
+    std::vector<std::uint32_t> idx;
+    add_quad(v, idx, -150, -150, 150, 150, 0, 0);  // the floor, y = 0
+    add_quad(v, idx, 90, -10, 110, 10, 0, 2);      // a block's top across leg 1 (x = 100), 2 m up
+    add_quad(v, idx, 90, 40, 110, 60, 0, 1);       // a 1 m step further along it
+    const Scene sc = scene_of(v, idx, square_route(0));
+    const RoadProfile road = road_of(sc);
+    double y = -1.0;
+    ASSERT_TRUE(road.height(1, 0.5, y));   // z = 0: on the floor under the block's top
+    EXPECT_EQ(y, 0.0);
+    EXPECT_TRUE(road.obstacle(1, 0.5));    // and the block is marked
+    EXPECT_FALSE(road.obstacle(1, 0.25));  // z = -50: the floor only
+    EXPECT_FALSE(road.obstacle(1, 0.75));  // the step is road, not an obstacle
+    ASSERT_TRUE(road.height(1, 0.75, y));  // z = 50: up the step
+    EXPECT_EQ(y, 1.0);
 }

@@ -97,6 +97,9 @@ void route_points(const Route& r, std::int32_t next, const Vec3& p, const Vec3& 
     for (; k <= count; ++k) out[k] = {from, leg, 1.0};
 }
 
+// Backwards speed along the nose past which the car is rolling back (unit: m/s).
+constexpr double kRollingBack_mps = 1.0;
+
 // Distance before a gate of the point a car lines up at when it cannot
 // drive through the gate from where it is (unit: m).
 constexpr double kApproach_m = 15.0;
@@ -113,20 +116,20 @@ bool needs_approach(const Checkpoint& g, const Vec3& p) {
     return past > -(side - g.half_width_m * 0.5);
 }
 
-// Where to steer: the route point ahead, moved sideways by `shift`, unless
-// the straight line to it would miss the next gate (then that gate's
-// centre, moved the same).
-Vec3 pursuit_point(const Route& r, const CarState& car, const Vec3& up, double ahead, const Vec3& shift) {
+// Where to steer: the route point ahead, moved sideways by `shift` (the
+// crossing place), unless the straight line to it would miss the next gate
+// (then that gate's centre, moved the same).
+Vec3 pursuit_point(const Route& r, const CarState& car, const Vec3& up, double ahead, double shift) {
     const Checkpoint& g = r.at(car.next_checkpoint);
     const Vec3 p = car.position;
     const double to_plane = (g.center - p).dot(g.normal);
     if (needs_approach(g, p)) return g.center - g.normal * kApproach_m;
-    const Vec3 x = route_point(r, car.next_checkpoint, p, up, ahead) + shift;
+    const Vec3 x = route_point(r, car.next_checkpoint, p, up, ahead) + g.across * shift;
     const double along = (x - p).dot(g.normal);
     if (to_plane <= 0.0 || along <= to_plane) return x;  // the aim is before the gate
     const Vec3 cross = p + (x - p) * (to_plane / along);
     if (std::abs((cross - g.center).dot(g.across)) <= g.half_width_m * 0.6) return x;
-    return g.center + shift;
+    return g.center + g.across * shift;
 }
 
 // Radius of the turn at gate `i` (unit: m; 0 when the route runs straight
@@ -178,6 +181,9 @@ double speed_limit(const Scene& sc, const Route& r, const CarState& car, const V
     return limit;
 }
 
+// Speed to reach an obstacle on the route at, to drive round it (unit: m/s).
+constexpr double kAroundSpeed_mps = 20.0;
+
 // Spacing of the road heights read along the route ahead, and the most
 // read (unit: m, samples).
 constexpr double kProbeStep_m = 6.0;
@@ -197,15 +203,19 @@ double crest_limit(const Scene& sc, const RoadProfile& road, const Route& r, con
     RoutePoint points[kProbes + 1];
     route_points(r, car.next_checkpoint, car.position, up, kProbeStep_m, n, points);
     Vec3 prev = points[0].at;
+    double limit = 1e9;
     for (int k = 0; k <= n; ++k) {
         const Vec3& q = points[k].at;
         ok[k] = road.height(points[k].leg, points[k].t, h[k]);
         const double dx = q.x() - prev.x(), dz = q.z() - prev.z();
         s[k] = k == 0 ? 0.0 : s[k - 1] + std::sqrt(dx * dx + dz * dz);
         prev = q;
+        // An obstacle on the route: arrive slowly enough to drive round it.
+        if (road.obstacle(points[k].leg, points[k].t)) {
+            limit = std::min(limit, std::sqrt(kAroundSpeed_mps * kAroundSpeed_mps + 2.0 * decel * s[k]));
+        }
     }
     const double g = sc.physics.gravity_mps2;
-    double limit = 1e9;
     for (int k = 1; k < n; ++k) {
         const double d1 = s[k] - s[k - 1], d2 = s[k + 1] - s[k];
         if (!ok[k - 1] || !ok[k] || !ok[k + 1] || d1 < 1.0 || d2 < 1.0) continue;
@@ -219,18 +229,68 @@ double crest_limit(const Scene& sc, const RoadProfile& road, const Route& r, con
     return limit;
 }
 
-// Stuck (no progress towards the gate for a while, barely moving): brake
-// and turn on the spot towards the aim, then drive; every few seconds try
-// the other way round. Returns false if the car is not stuck.
-bool unstick(const Scene& sc, const CarState& car, double error, double speed, Input& out) {
+// Heading error of unit direction `d` against the car's forward: about the
+// angle (its sine) while ahead, beyond a right angle (2 - sine) when behind.
+double heading_error(const Vec3& d, const Vec3& fwd, const Vec3& right) {
+    const double lateral = d.dot(right);
+    return d.dot(fwd) > 0.0 ? lateral : (lateral >= 0.0 ? 2.0 - lateral : -2.0 - lateral);
+}
+
+// The nearest point of a face steeper than the road (unit normal within
+// 45 degrees of level against `up`: a block's side, a barrier) within
+// `reach` of the car centred at `p`. False if there is none.
+bool nearest_obstacle(const Scene& sc, const Vec3& p, const Vec3& up, double reach, Vec3& at) {
+    double best2 = reach * reach;
+    bool found = false;
+    sc.grid.for_each_candidate(Aabb::around(p, reach), [&](std::uint32_t i) {
+        const Triangle& t = sc.track.triangles[i];
+        ClosestPoint cp;
+        if (!closest_point_within(p, t, reach, cp)) return true;
+        const double d2 = (p - cp.point).squaredNorm();
+        if (d2 < best2 && std::abs(t.normal().dot(up)) < 0.7) {
+            best2 = d2;
+            at = cp.point;
+            found = true;
+        }
+        return true;
+    });
+    return found;
+}
+
+// Turn on the spot (braked) until the nose is within about 17 degrees of
+// unit direction `want`, then drive at it.
+Input turn_then_drive(double error) {
+    if (std::abs(error) > 0.3) return Input::clamped(0, error >= 0.0 ? Input::kMaxSteer : -Input::kMaxSteer, 1);
+    return Input::clamped(Input::kMaxThrottle, static_cast<int>(std::lround(error * 2.0 * Input::kMaxSteer)), 0);
+}
+
+// Stuck (no progress towards the gate for a while, barely moving). Pinned
+// against an obstacle (a face steeper than the road within a car's radius
+// and a half): turn along it, to the side of the aim `d`, and drive out
+// round it. Else turn on the spot towards the aim, then drive; every few
+// seconds try the other way round. Returns false if the car is not stuck.
+bool unstick(const Scene& sc, const CarState& car, const Vec3& d, double error, double speed, Input& out) {
     const auto hz = static_cast<std::uint32_t>(sc.physics.tick_rate_hz);
     if (car.no_progress_ticks < hz * 3 / 2 || speed > 6.0) return false;
+    const Vec3 up = car.up(), fwd = car.forward();
+    const Vec3 right = fwd.cross(up);
+    Vec3 at(0, 0, 0);
+    // An obstacle between the car and its aim (within 60 degrees of it).
+    if (nearest_obstacle(sc, car.position, up, 1.5 * sc.physics.car_radius_m, at) &&
+        (at - car.position).dot(d) > 0.5 * (at - car.position).norm()) {
+        const Vec3 away = in_plane(car.position - at, up);
+        Vec3 along = up.cross(away);
+        if (along.dot(d) < 0.0) along = -along;
+        const Vec3 way = normalized_or(along + away * 0.25, d);
+        out = turn_then_drive(heading_error(way, fwd, right));
+        return true;
+    }
     const std::uint32_t phase = (car.no_progress_ticks - hz * 3 / 2) % (hz * 4);
     const double turn = phase < hz * 5 / 2 ? error : -error;
-    if (std::abs(turn) > 0.3 || (phase >= hz * 5 / 2 && phase < hz * 3)) {
+    if (phase >= hz * 5 / 2 && phase < hz * 3) {
         out = Input::clamped(0, turn >= 0.0 ? Input::kMaxSteer : -Input::kMaxSteer, 1);
     } else {
-        out = Input::clamped(Input::kMaxThrottle, static_cast<int>(std::lround(turn * 2.0 * Input::kMaxSteer)), 0);
+        out = turn_then_drive(turn);
     }
     return true;
 }
@@ -259,6 +319,7 @@ int within_grip(const Scene& sc, int steer, double speed) {
     const int c = std::max(1, static_cast<int>(cap * Input::kMaxSteer));
     return std::clamp(steer, -c, c);
 }
+
 
 }  // namespace
 
@@ -289,25 +350,26 @@ Input drive(const Course& course, const WorldState& state, int slot, const Drive
     const double to_gate = in_plane(next.center - car.position, up).norm();
     const double ahead_m = std::max(std::clamp(speed * 0.5, 10.0, skill.lookahead_m), to_gate);
     const std::int32_t next_k = ((car.next_checkpoint % route.count) + route.count) % route.count;
+    const bool finishing = next_k == 0 && car.lap >= state.laps;
     const double cross_at = ai_detail::crossing_offset(course, state, next_k, car);
-    const Vec3 aim = pursuit_point(route, car, up, ahead_m, next.across * cross_at);
+    const Vec3 aim = pursuit_point(route, car, up, ahead_m, cross_at);
 
     const Vec3 d = normalized_or(in_plane(aim - car.position, up), fwd);
-    // Heading error: about the angle while ahead, beyond a right angle when behind.
     const double lateral = d.dot(right);
-    const double error = d.dot(fwd) > 0.0 ? lateral : (lateral >= 0.0 ? 2.0 - lateral : -2.0 - lateral);
+    const double error = heading_error(d, fwd, right);
     // On a wall or a steep bank slowing down means sliding back: there the
     // corners and climbs ahead are the only limit.
     const bool steep = up.y() < 0.7;
     Input out;
-    if (!steep && unstick(sc, car, error, speed, out)) return out;
+    if (!steep && unstick(sc, car, d, error, speed, out)) return out;
     // Inputs that change rarely are what a client predicting other cars
     // guesses right (it repeats their last input): no dithering.
     const int steer = static_cast<int>(std::lround(skill.steer_gain * error * Input::kMaxSteer));
-    // In the air thrust does nothing: lift off, keep the nose on the aim for the landing.
+    // In the air thrust does nothing: lift off, keep the nose on the aim for
+    // the landing (the grip turns the velocity after it; a car that lands
+    // rolling backwards is stopped by thrust and brake below).
     if (!touches_track(sc, car.position)) return Input::clamped(0, steer, 0);
 
-    const bool finishing = next_k == 0 && car.lap >= state.laps;
     double limit = speed_limit(sc, route, car, up, skill, finishing);
     if (!steep) {
         const double decel = sc.physics.brake_mps2 * 0.8;
@@ -318,6 +380,9 @@ Input drive(const Course& course, const WorldState& state, int slot, const Drive
     const int steer_g = within_grip(sc, steer, speed);
     int throttle = Input::kMaxThrottle;
     int brake = 0;
+    // Rolling backwards (off a ramp's top, back from a wall it could not
+    // climb): thrust and brake both stop that, whatever the speed.
+    if (car.velocity.dot(fwd) < -kRollingBack_mps) return Input::clamped(Input::kMaxThrottle, steer_g, 1);
     if (speed > limit) {
         throttle = 0;
         brake = speed > limit * 1.03 ? 1 : 0;

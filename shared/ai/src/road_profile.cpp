@@ -23,31 +23,39 @@ double cross_xz(const Vec3& a, const Vec3& b, double x, double z) {
     return (b.x() - a.x()) * (z - a.z()) - (b.z() - a.z()) * (x - a.x());
 }
 
-// Height of the highest of `track`'s triangles (found through `grid`, built
-// over them) that faces upwards (unit normal's y at least `min_up`) above
-// the point (x, z) of the ground plan, between `y_lo` and `y_hi` (unit: m).
-// False if there is none.
+// A car drives up a step at most this high onto a higher face (half its
+// radius: the push at a higher edge is more than 60 degrees from the
+// vertical), else on over the highest face below (unit: m).
+constexpr double kStepUp_m = 1.25;
+
+// Height of the road above the point (x, z) of the ground plan among
+// `track`'s triangles (found through `grid`, built over them) that slope
+// like a road (|unit normal's y| at least `min_up`, wound either way) and
+// lie between `y_lo` and `y_hi`: the highest at or below `reach` (unit: m).
+// False if there is none. `higher` is set if one lies above `reach`.
 bool road_height(const Track& track, const UniformGrid& grid, double x, double z, double y_lo, double y_hi,
-                 double min_up, double& y) {
+                 double reach, double min_up, double& y, bool& higher) {
     constexpr double kHalf_m = 1e-3;
     const Aabb column{Vec3(x - kHalf_m, y_lo, z - kHalf_m), Vec3(x + kHalf_m, y_hi, z + kHalf_m)};
     bool found = false;
+    higher = false;
     double best = y_lo;
     // The highest hit wins, whatever the order the grid gives the triangles in.
     grid.for_each_candidate(column, [&](std::uint32_t i) {
         const Triangle& t = track.triangles[i];
         // Inside in the ground plan: the three signed areas agree (edges
-        // inclusive; an upward normal makes the winding counter-clockwise).
-        // Tested first: it rejects most candidates without the normal.
+        // inclusive, either winding). Tested first: it rejects most
+        // candidates without the normal.
         const double e0 = cross_xz(t.a, t.b, x, z);
         const double e1 = cross_xz(t.b, t.c, x, z);
         const double e2 = cross_xz(t.c, t.a, x, z);
         const bool inside = (e0 >= 0.0 && e1 >= 0.0 && e2 >= 0.0) || (e0 <= 0.0 && e1 <= 0.0 && e2 <= 0.0);
         if (!inside) return true;
         const Vec3 n = t.normal();
-        if (n.y() < min_up) return true;
+        if (!(std::abs(n.y()) >= min_up)) return true;
         const double h = t.a.y() - (n.x() * (x - t.a.x()) + n.z() * (z - t.a.z())) / n.y();
-        if (h >= best && h <= y_hi) {
+        if (h > reach && h >= y_lo && h <= y_hi) higher = true;
+        if (h >= best && h <= y_hi && h <= reach) {
             best = h;
             found = true;
         }
@@ -81,16 +89,42 @@ RoadProfile RoadProfile::build(const Track& track, const UniformGrid& grid, cons
         const double want = std::ceil(ground_length(a, b) / spacing_m);
         const auto intervals = static_cast<std::uint32_t>(std::clamp(want, 1.0, kMaxIntervals));
         p.first_.push_back(static_cast<std::uint32_t>(p.offsets_.size()));
+        // The road a car drives on along the leg: from under the gate it
+        // starts at (the highest road below the route line there), on over
+        // the highest road at most a step above the last one, so that a
+        // ceiling or a deck overhead is not read as road whichever way its
+        // faces are wound. After a stretch with none, the highest within
+        // the probe.
+        bool last_ok = false;
+        double last_y = 0.0;
         for (std::uint32_t j = 0; j <= intervals; ++j) {
             const Vec3 q = a + (b - a) * (static_cast<double>(j) / intervals);
+            const double lo = q.y() - probe.below_m, hi = q.y() + probe.above_m;
+            const double reach = j == 0 ? q.y() : last_ok ? last_y + kStepUp_m : hi;
             double y = 0.0;
-            const bool ok = road_height(track, grid, q.x(), q.z(), q.y() - probe.below_m, q.y() + probe.above_m,
-                                        probe.min_up, y);
+            bool higher = false;
+            const bool ok = road_height(track, grid, q.x(), q.z(), lo, hi, reach, probe.min_up, y, higher);
             p.offsets_.push_back(ok ? static_cast<std::int16_t>(std::lround((y - q.y()) / kResolution_m)) : kNone);
+            // A top more than a step above the road driven on: an obstacle
+            // (a block, a deck's edge) stands there, not on the first sample
+            // (under the gate, where the start has no last road).
+            p.obstacles_.push_back(j > 0 && last_ok && higher ? 1 : 0);
+            last_ok = ok;
+            last_y = y;
         }
     }
     p.first_.push_back(static_cast<std::uint32_t>(p.offsets_.size()));
     return p;
+}
+
+bool RoadProfile::obstacle(std::int32_t leg, double t) const {
+    const auto n = static_cast<std::int32_t>(legs());
+    if (n == 0) return false;
+    const auto k = static_cast<std::size_t>(((leg % n) + n) % n);
+    const std::uint32_t first = first_[k];
+    const std::uint32_t intervals = first_[k + 1] - first - 1;
+    const auto j = std::min(static_cast<std::uint32_t>(std::clamp(t, 0.0, 1.0) * intervals), intervals - 1);
+    return obstacles_[first + j] != 0 || obstacles_[first + j + 1] != 0;
 }
 
 bool RoadProfile::height(std::int32_t leg, double t, double& y) const {
@@ -114,7 +148,7 @@ bool RoadProfile::height(std::int32_t leg, double t, double& y) const {
 
 std::size_t RoadProfile::memory_bytes() const {
     return first_.capacity() * sizeof(std::uint32_t) + gate_y_.capacity() * sizeof(double) +
-           offsets_.capacity() * sizeof(std::int16_t);
+           offsets_.capacity() * sizeof(std::int16_t) + obstacles_.capacity();
 }
 
 }  // namespace jetrace

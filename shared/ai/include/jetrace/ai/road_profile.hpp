@@ -16,7 +16,8 @@ namespace jetrace {
 struct RoadProbe {
     /// Spacing of the samples along each leg, in the ground plan (unit: m).
     double spacing_m = 1.0;
-    /// Road faces upwards: its unit normal's y at least this (unit: cosine).
+    /// Road slopes like one: its unit normal's |y| at least this, the face
+    /// wound either way (unit: cosine).
     double min_up = 0.7;
     /// The road is looked for from this far above the route line to this
     /// far below it (unit: m; each at most 32, what the profile stores).
@@ -42,6 +43,11 @@ public:
     /// no road.
     bool height(std::int32_t leg, double t, double& y) const;
 
+    /// True if an obstacle stands on the route near the point a fraction
+    /// `t` along leg `leg`: a top more than a step (1.25 m) above the road
+    /// a car drives on there, in either of the two samples around it.
+    bool obstacle(std::int32_t leg, double t) const;
+
     std::size_t legs() const { return gate_y_.size(); }
     std::size_t memory_bytes() const;
 
@@ -54,6 +60,8 @@ private:
     std::vector<std::uint32_t> first_;
     std::vector<double> gate_y_;
     std::vector<std::int16_t> offsets_;
+    // Per sample, 1 where an obstacle stands (obstacle()).
+    std::vector<std::uint8_t> obstacles_;
 };
 
 }  // namespace jetrace
