@@ -10,6 +10,7 @@
 
 #include "jetrace/ai/driver_ai.hpp"
 #include "jetrace/ai/offline_race.hpp"
+#include "jetrace/ai/pilot.hpp"
 #include "jetrace/auth/connect_token.hpp"
 #include "jetrace/client/race_client.hpp"
 
@@ -19,6 +20,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <string>
 #include <thread>
@@ -37,8 +39,7 @@ struct Bot {
     /// nullptr until its turn to join comes (join_pacing.hpp).
     std::unique_ptr<jetrace::client::RaceClient> client;
     std::string name;
-    jetrace::DriverSkill skill;
-    jetrace::CourseCache course;  // the AI's view of the scene the client races on
+    jetrace::Pilot pilot;  // its AI: skill, course of the scene the client races on, held input
     jetrace::client::ClientConfig config;
     /// Its server: BotOptions::addresses[address].
     std::size_t address = 0;
@@ -69,7 +70,7 @@ std::vector<Bot> make_bots(const BotOptions& o) {
     std::vector<Bot> bots;
     for (int i = 0; i < o.count; ++i) {
         Bot b;
-        b.skill = skills[static_cast<std::size_t>(i)];
+        b.pilot = jetrace::Pilot(skills[static_cast<std::size_t>(i)]);
         b.config = config_for(o, i, b.name);
         b.address = static_cast<std::size_t>(i) % o.addresses.size();
         bots.push_back(std::move(b));
@@ -132,10 +133,7 @@ bool run(const BotOptions& o, const jetrace::client::KnownScenes& known, std::ve
         // reconciliations: no input waits for the other bots' replays.
         for (Bot& b : bots) {
             if (b.done || !b.client) continue;
-            const auto skill = b.skill;
-            b.client->run_due(t, [&](const jetrace::Scene& sc, const jetrace::WorldState& w, int slot) {
-                return jetrace::drive(b.course(sc), w, slot, skill);
-            });
+            b.client->run_due(t, std::ref(b.pilot));
         }
         for (Bot& b : bots) {
             if (b.done || !b.client) continue;

@@ -12,6 +12,7 @@
 #include "input_audit.hpp"
 #include "jetrace/ai/driver_ai.hpp"
 #include "jetrace/ai/offline_race.hpp"
+#include "jetrace/ai/pilot.hpp"
 #include "jetrace/client/race_client.hpp"
 #include "jetrace/replay/diff.hpp"
 #include "jetrace/server/race_server.hpp"
@@ -109,8 +110,7 @@ struct Bot {
     /// The connection of a bot connected at the start, which its client uses (no reconnects).
     std::unique_ptr<net::Transport> net;
     std::unique_ptr<client::RaceClient> client;
-    DriverSkill skill;
-    CourseCache course;  // the AI's view of the scene the client races on
+    Pilot pilot;  // its AI: skill, course of the scene the client races on, held input
     /// The current connection of a bot from add_bot(), which the test may cut.
     Severable* link = nullptr;
     /// Not updated any more: its ENet host falls silent (LiveRace::freeze_bot()).
@@ -259,11 +259,7 @@ public:
         }
         for (const auto& b : bots_) {
             if (b->frozen || std::find(paused.begin(), paused.end(), b.get()) != paused.end()) continue;
-            const DriverSkill skill = b->skill;
-            CourseCache& course = b->course;
-            b->client->update(now_us_, [skill, &course](const Scene& sc, const WorldState& w, int slot) {
-                return drive(course(sc), w, slot, skill);
-            });
+            b->client->update(now_us_, std::ref(b->pilot));
         }
         for (auto& r : raws_) {
             if (!r->vanished) r->service(now_us_ / 1000);
@@ -375,7 +371,7 @@ private:
     Bot& new_bot() {
         const int k = static_cast<int>(bots_.size());
         auto bot = std::make_unique<Bot>();
-        bot->skill = skills_for(k + 1, options_.skill_seed)[static_cast<std::size_t>(k)];
+        bot->pilot = Pilot(skills_for(k + 1, options_.skill_seed)[static_cast<std::size_t>(k)]);
         bots_.push_back(std::move(bot));
         return *bots_.back();
     }

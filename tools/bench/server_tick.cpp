@@ -3,6 +3,7 @@
 #include "bench/common.hpp"
 #include "jetrace/ai/driver_ai.hpp"
 #include "jetrace/ai/offline_race.hpp"
+#include "jetrace/ai/pilot.hpp"
 #include "jetrace/cli/finite.hpp"
 #include "jetrace/cli/logging.hpp"
 #include "jetrace/client/race_client.hpp"
@@ -14,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <functional>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -36,8 +38,7 @@ constexpr std::uint64_t kStartLimitUs = 60'000'000;
 struct Bot {
     std::unique_ptr<net::Transport> net;
     std::unique_ptr<client::RaceClient> client;
-    DriverSkill skill;
-    CourseCache course;  // the AI's view of the scene the client races on
+    Pilot pilot;  // its AI: skill, course of the scene the client races on, held input
     client::InputSource input;
 };
 
@@ -85,14 +86,14 @@ std::vector<std::unique_ptr<Bot>> make_bots(net::MemoryHub& hub, const Scene& sc
     std::vector<std::unique_ptr<Bot>> bots;
     for (int i = 0; i < count; ++i) {
         auto b = std::make_unique<Bot>();
-        b->skill = skills[static_cast<std::size_t>(i)];
+        b->pilot = Pilot(skills[static_cast<std::size_t>(i)]);
         b->net = hub.connect();
         client::ClientConfig cc;
         cc.name = "bot" + std::to_string(i);
         b->client = std::make_unique<client::RaceClient>(cc, scene, *b->net);
         Bot* self = b.get();
         b->input = [self](const Scene& sc, const WorldState& w, int slot) {
-            return drive(self->course(sc), w, slot, self->skill);
+            return self->pilot(sc, w, slot);
         };
         bots.push_back(std::move(b));
     }

@@ -1,5 +1,7 @@
 #include "jetrace/ai/offline_race.hpp"
 
+#include "jetrace/ai/pilot.hpp"
+
 #include <random>
 
 namespace jetrace {
@@ -29,11 +31,13 @@ WorldState start_race(const Scene& scene, int cars, int laps) {
 std::uint32_t run_ai(const Course& course, WorldState& state, const std::vector<DriverSkill>& skills, std::uint32_t ticks,
                      bool stop_when_finished, StepScratch& scratch, StepObserver* observer) {
     std::vector<Input> inputs(state.cars.size());
+    std::vector<Pilot> pilots;
+    pilots.reserve(state.cars.size());
+    for (std::size_t i = 0; i < state.cars.size(); ++i) pilots.emplace_back(i < skills.size() ? skills[i] : DriverSkill{});
     for (std::uint32_t t = 0; t < ticks; ++t) {
         bool all_done = true;
         for (std::size_t i = 0; i < state.cars.size(); ++i) {
-            const DriverSkill skill = i < skills.size() ? skills[i] : DriverSkill{};
-            inputs[i] = drive(course, state, static_cast<int>(i), skill);
+            inputs[i] = pilots[i].next(course, state, static_cast<int>(i));
             if (state.cars[i].active && !state.cars[i].finished) all_done = false;
         }
         if (stop_when_finished && all_done) return t;

@@ -1,0 +1,25 @@
+#include "jetrace/ai/pilot.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace jetrace {
+
+std::uint32_t think_ticks(double tick_rate_hz) {
+    const double every = std::round(tick_rate_hz / kThinkRate_hz);
+    return every >= 1.0 ? static_cast<std::uint32_t>(std::min(every, 1e6)) : 1u;
+}
+
+Input Pilot::next(const Course& course, const WorldState& state, int slot) {
+    const CarState& car = state.cars[static_cast<std::size_t>(slot)];
+    const bool follows = holding_ && state.tick == last_tick_ + 1 && car.respawns == respawns_;
+    if (!follows || thinks_on(state.tick, slot, think_ticks(course.scene().physics.tick_rate_hz))) {
+        held_ = drive(course, state, slot, skill_);
+        holding_ = true;
+    }
+    last_tick_ = state.tick;
+    respawns_ = car.respawns;
+    return held_;
+}
+
+}  // namespace jetrace
