@@ -58,6 +58,7 @@ double idle_ns_per_frame(const jetrace::Scene& scene, std::uint32_t frames, bool
         for (std::uint32_t f = 1; f < frames; ++f) {
             scratch.cars[0].clear_valid = false;
             scratch.cars[0].contacts_valid = false;
+            scratch.cars[0].rest_valid = false;
             jetrace::step(scene, st, {&idle, 1}, scratch);
         }
     } else {

@@ -84,28 +84,71 @@ void quantize_orientation_cached(CarScratch& cs, CarState& car) {
     cs.quantized_valid = true;
 }
 
-// Phase 1: sense contacts, apply controls and forces, integrate.
+using Motion = CarScratch::Motion;
+
+// Bit for bit (not ==, which takes -0 for +0).
+bool same_bits(const Vec3& a, const Vec3& b) { return std::memcmp(a.data(), b.data(), 3 * sizeof(double)) == 0; }
+
+bool same_motion(const CarState& car, const Motion& m) {
+    return same_bits(car.position, m.position) && same_bits(car.velocity, m.velocity) &&
+           std::memcmp(car.orientation.coeffs().data(), m.orientation.coeffs().data(), 4 * sizeof(double)) == 0;
+}
+
+Motion motion_of(const CarState& car) { return {car.position, car.velocity, car.orientation}; }
+
+void set_motion(CarState& car, const Motion& m) {
+    car.position = m.position;
+    car.velocity = m.velocity;
+    car.orientation = m.orientation;
+}
+
+// The input the step applies to car `i`: the brake before the start and
+// after the finish, else the driver's (none if `inputs` has no entry).
+Input effective_input(const WorldState& st, std::span<const Input> inputs, std::size_t i) {
+    Input in{};
+    if (st.tick < st.start_tick || st.cars[i].finished) {
+        in.brake = 1;
+    } else if (i < inputs.size()) {
+        in = inputs[i];
+    }
+    return in;
+}
+
+// The gather for a car's step from where it is (what drive_phase does).
+void gather_for_step(const Scene& sc, const CarState& car, CarScratch& cs) {
+    const PhysicsSettings& ps = sc.physics;
+    const double travel = car.velocity.norm() * ps.dt_s();
+    cs.candidates.lookahead = gather_lookahead(ps, car.velocity, travel);
+    keep_covered(sc.query(), car.position, gather_reach(ps, GatherFor::step, travel), cs.candidates);
+}
+
+// Phase 1: sense contacts, apply controls and forces, integrate; a car at
+// rest as its last step left it (CarScratch::rest) takes its motion after
+// that step's phase 1 instead.
 void drive_phase(const Scene& sc, WorldState& st, std::span<const Input> inputs, StepScratch& scr) {
     const PhysicsSettings& ps = sc.physics;
-    const bool racing = st.tick >= st.start_tick;
     for (std::size_t i = 0; i < st.cars.size(); ++i) {
         CarState& car = st.cars[i];
         if (!car.active) continue;
         CarScratch& cs = scr.cars[i];
         cs.previous_position = car.position;
-        Input in{};
-        if (!racing || car.finished) {
-            in.brake = 1;
-        } else if (i < inputs.size()) {
-            in = inputs[i];
+        const Input in = effective_input(st, inputs, i);
+        cs.asleep = cs.rest_valid && in == cs.rest_input && same_motion(car, cs.rest);
+        if (cs.asleep) {
+            set_motion(car, cs.rest_mid);
+            continue;
         }
-        const double travel = car.velocity.norm() * ps.dt_s();
-        cs.candidates.lookahead = gather_lookahead(ps, car.velocity, travel);
-        keep_covered(sc.query(), car.position, gather_reach(ps, GatherFor::step, travel), cs.candidates);
+        cs.candidate = car.velocity.x() == 0.0 && car.velocity.y() == 0.0 && car.velocity.z() == 0.0;
+        if (cs.candidate) {
+            cs.candidate_from = motion_of(car);
+            cs.candidate_input = in;
+        }
+        gather_for_step(sc, car, cs);
         ensure_contacts(sc, cs, car.position);
         const Vec3 v0 = car.velocity;
         apply_controls_and_forces(ps, cs.contacts, in, car);
         integrate(ps, v0, car);
+        if (cs.candidate) cs.candidate_mid = motion_of(car);
     }
 }
 
@@ -118,6 +161,20 @@ void resolve_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
         CarState& car = st.cars[i];
         if (!car.active) continue;
         CarScratch& cs = scr.cars[i];
+        if (cs.asleep) {
+            // Untouched by the car collisions: its step ends where the last did.
+            if (same_motion(car, cs.rest_mid)) {
+                set_motion(car, cs.rest);
+                continue;
+            }
+            // Pushed by a car: the whole step from here, from the gather on.
+            cs.asleep = false;
+            cs.candidate = false;
+            const Motion mid = motion_of(car);
+            set_motion(car, cs.rest);
+            gather_for_step(sc, car, cs);
+            set_motion(car, mid);
+        }
         // Rounded to the wire resolution before the push-out, which then
         // checks the car where the step leaves it (resolve() rounds again
         // after any push).
@@ -156,9 +213,19 @@ void rules_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
         if (!car.active) continue;
         CarScratch& cs = scr.cars[i];
         apply_race_rules(sc.track, ps, st.laps, st.tick, st.tick >= st.start_tick, cs.previous_position, car);
+        // Asleep and not respawned: the alignment and rounding are the last step's.
+        if (cs.asleep && same_motion(car, cs.rest)) continue;
         ensure_contacts(sc, cs, car.position);
         align_to_contacts(ps, cs.contacts, car);
         if (ps.quantize_state) quantize_orientation_cached(cs, car);
+        // A step that left a car at rest exactly as it found it.
+        cs.rest_valid = cs.candidate && same_motion(car, cs.candidate_from);
+        if (cs.rest_valid) {
+            cs.rest = cs.candidate_from;
+            cs.rest_mid = cs.candidate_mid;
+            cs.rest_input = cs.candidate_input;
+        }
+        cs.candidate = false;
     }
 }
 

@@ -64,6 +64,31 @@ struct CarScratch {
     /// exactly these bits (one that did not turn) needs no rounding.
     Quat quantized_orientation{1, 0, 0, 0};
     bool quantized_valid = false;
+    /// A car at rest (a parked car, one waiting for the start, a finished
+    /// one held by the brake): its last step, with input `rest_input`,
+    /// left its motion (position, velocity, orientation) `rest` bit for bit
+    /// as it found it, with `rest_mid` after the controls and integration.
+    /// Found there again with that input, the step is a function of those
+    /// alone, so it gives the same: the car takes `rest_mid` for the car
+    /// collisions and, if no car touched it, `rest` again without the
+    /// contacts, forces, push-out or alignment. The race rules still run.
+    struct Motion {
+        Vec3 position{0, 0, 0};
+        Vec3 velocity{0, 0, 0};
+        Quat orientation{1, 0, 0, 0};
+    };
+    Motion rest;
+    Motion rest_mid;
+    Input rest_input{};
+    bool rest_valid = false;
+    /// This step: the car started it at rest with a zero velocity (a
+    /// candidate for `rest`; `candidate_*` is what it would record), or it
+    /// is taking the shortcut (`asleep`).
+    bool candidate = false;
+    bool asleep = false;
+    Motion candidate_from;
+    Motion candidate_mid;
+    Input candidate_input{};
 };
 
 /// Per-step scratch owned by the caller; results never depend on its contents.

@@ -1,0 +1,90 @@
+// The step's shortcut for a car at rest (CarScratch::rest): a car its last
+// step left exactly as it found it, found so again with the same input,
+// skips its contacts, forces, push-out and alignment. It must change no
+// bit: races stepped with it and with it turned off (rest_valid cleared
+// before every step) agree at every tick, through a countdown (every car
+// braked at rest), a finish (finished cars held by the brake on the line)
+// and the cars that arrive later and run into them.
+#include "jetrace/ai/offline_race.hpp"
+#include "jetrace/ai/pilot.hpp"
+#include "jetrace/tracks/builtin_tracks.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <vector>
+
+namespace {
+
+struct Counts {
+    int asleep = 0;  // car-steps that took the shortcut
+};
+
+void expect_same_race(const char* track_name, int cars, std::uint64_t seed, std::uint32_t countdown,
+                      std::uint32_t ticks, Counts& counts) {
+    jetrace::Track t;
+    ASSERT_TRUE(jetrace::make_builtin_track(track_name, t));
+    const jetrace::Scene scene = jetrace::Scene::make(std::move(t), jetrace::PhysicsSettings{});
+    const jetrace::Course course(scene);
+    jetrace::WorldState a = jetrace::make_world(cars, 1, countdown);
+    for (int i = 0; i < cars; ++i) jetrace::spawn_car(scene, a, i, i);
+    jetrace::WorldState b = a;
+    const auto skills = jetrace::skills_for(cars, seed);
+    std::vector<jetrace::Pilot> pilots;
+    for (const auto& s : skills) pilots.emplace_back(s);
+    jetrace::StepScratch with, without;
+    std::vector<jetrace::Input> in(static_cast<std::size_t>(cars));
+    for (std::uint32_t k = 0; k < ticks; ++k) {
+        for (int i = 0; i < cars; ++i) in[static_cast<std::size_t>(i)] = pilots[static_cast<std::size_t>(i)].next(course, a, i);
+        jetrace::step(scene, a, in, with);
+        for (auto& cs : without.cars) cs.rest_valid = false;
+        jetrace::step(scene, b, in, without);
+        for (const auto& cs : with.cars) counts.asleep += cs.asleep ? 1 : 0;
+        ASSERT_EQ(jetrace::state_hash(a), jetrace::state_hash(b))
+            << track_name << ", seed " << seed << ": the worlds differ after tick " << a.tick;
+    }
+}
+
+}  // namespace
+
+TEST(Rest, ARaceWithACountdownAndParkedFinishersIsTheSameWithoutTheShortcut) {
+    Counts counts;
+    // ring: a 1-lap race of about 15 s with a 2 s countdown, then 25 s of
+    // finished cars held on and past the line while the rest arrive.
+    for (std::uint64_t seed : {1u, 2u}) expect_same_race("ring", 8, seed, 240, 40 * 120, counts);
+    std::printf("car-steps at rest through the shortcut: %d\n", counts.asleep);
+    // The countdown alone is 8 cars x 240 ticks a race, most of them asleep.
+    EXPECT_GT(counts.asleep, 2 * 8 * 200);
+}
+
+TEST(Rest, AParkedCarRunIntoIsPushedAsWithoutTheShortcut) {
+    // Two cars: one parked (finished and braked) on the road, one driven
+    // into it from behind at 30 m/s; the shortcut must give way to the
+    // whole step when the other car moves it.
+    jetrace::Track t;
+    ASSERT_TRUE(jetrace::make_builtin_track("ring", t));
+    const jetrace::Scene scene = jetrace::Scene::make(std::move(t), jetrace::PhysicsSettings{});
+    jetrace::WorldState a = jetrace::make_world(2, 1);
+    jetrace::spawn_car(scene, a, 0, 0);
+    jetrace::spawn_car(scene, a, 1, 0);
+    a.cars[0].finished = true;
+    jetrace::CarState& hitter = a.cars[1];
+    hitter.position -= hitter.forward() * 30.0;
+    hitter.velocity = hitter.forward() * 30.0;
+    jetrace::WorldState b = a;
+    jetrace::StepScratch with, without;
+    const std::vector<jetrace::Input> in = {jetrace::Input{}, jetrace::Input{}};
+    int asleep_before_hit = 0;
+    bool moved = false;
+    const jetrace::Vec3 parked_at = a.cars[0].position;
+    for (int k = 0; k < 240; ++k) {
+        jetrace::step(scene, a, in, with);
+        for (auto& cs : without.cars) cs.rest_valid = false;
+        jetrace::step(scene, b, in, without);
+        if (!moved && with.cars[0].asleep) ++asleep_before_hit;
+        moved = moved || (a.cars[0].position - parked_at).norm() > 0.5;
+        ASSERT_EQ(jetrace::state_hash(a), jetrace::state_hash(b)) << "after tick " << a.tick;
+    }
+    EXPECT_GT(asleep_before_hit, 10);  // it slept before the hit
+    EXPECT_TRUE(moved);                // and the hit moved it
+}
