@@ -138,17 +138,20 @@ void drive_phase(const Scene& sc, WorldState& st, std::span<const Input> inputs,
             set_motion(car, cs.rest_mid);
             continue;
         }
+        // A car starting at rest may end its step as it started: record
+        // its motion in `rest` (valid again only if it does).
+        cs.rest_valid = false;
         cs.candidate = car.velocity.x() == 0.0 && car.velocity.y() == 0.0 && car.velocity.z() == 0.0;
         if (cs.candidate) {
-            cs.candidate_from = motion_of(car);
-            cs.candidate_input = in;
+            cs.rest = motion_of(car);
+            cs.rest_input = in;
         }
         gather_for_step(sc, car, cs);
         ensure_contacts(sc, cs, car.position);
         const Vec3 v0 = car.velocity;
         apply_controls_and_forces(ps, cs.contacts, in, car);
         integrate(ps, v0, car);
-        if (cs.candidate) cs.candidate_mid = motion_of(car);
+        if (cs.candidate) cs.rest_mid = motion_of(car);
     }
 }
 
@@ -219,12 +222,7 @@ void rules_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
         align_to_contacts(ps, cs.contacts, car);
         if (ps.quantize_state) quantize_orientation_cached(cs, car);
         // A step that left a car at rest exactly as it found it.
-        cs.rest_valid = cs.candidate && same_motion(car, cs.candidate_from);
-        if (cs.rest_valid) {
-            cs.rest = cs.candidate_from;
-            cs.rest_mid = cs.candidate_mid;
-            cs.rest_input = cs.candidate_input;
-        }
+        cs.rest_valid = cs.candidate && same_motion(car, cs.rest);
         cs.candidate = false;
     }
 }

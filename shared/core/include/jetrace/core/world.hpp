@@ -81,14 +81,11 @@ struct CarScratch {
     Motion rest_mid;
     Input rest_input{};
     bool rest_valid = false;
-    /// This step: the car started it at rest with a zero velocity (a
-    /// candidate for `rest`; `candidate_*` is what it would record), or it
-    /// is taking the shortcut (`asleep`).
+    /// This step: the car started it with a zero velocity (its motion and
+    /// input are recorded in `rest`, valid if the step ends where it
+    /// began), or it is taking the shortcut (`asleep`).
     bool candidate = false;
     bool asleep = false;
-    Motion candidate_from;
-    Motion candidate_mid;
-    Input candidate_input{};
 };
 
 /// Per-step scratch owned by the caller; results never depend on its contents.
