@@ -1,14 +1,17 @@
 // The driving AI on small made-up tracks, each with one feature that real
 // levels from other games have and the built-in tracks do not: a block
 // across a gate's centre, floors whose faces point down, a ramp up to a
-// gate on a plateau, and a drop off its far edge. 8 cars, skill seeds 1 to
-// 3: all 8 finish a lap each time, with at most 4 respawns among them.
+// gate on a plateau, and a drop off its far edge, a block across the
+// straight line between two gates. 8 cars, skill seeds 1 to 3: all 8
+// finish a lap each time, with at most 4 respawns among them. Also single
+// cars: rolling backwards, and pinned against a block.
 #include "jetrace/ai/offline_race.hpp"
 #include "support/made_up_track.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -63,14 +66,32 @@ std::vector<Checkpoint> rectangle(double g1_road_y = 0) {
             gate(-150, 0, 0, -1)};
 }
 
+// Skill seeds 1 to JETRACE_AI_SEEDS (default 3; the figures in
+// docs/TRACKS.md use 12; the race's assertions hold for 1 to 3).
+std::uint64_t seed_count() {
+    const char* env = std::getenv("JETRACE_AI_SEEDS");
+    const long n = env ? std::strtol(env, nullptr, 10) : 3;
+    return n >= 1 && n <= 1000 ? static_cast<std::uint64_t>(n) : 3;
+}
+
 void expect_finish(const char* name, const Track& t) {
-    for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+    const std::uint64_t seeds = seed_count();
+    int finished = 0, respawns = 0;
+    double lap_sum = 0;
+    for (std::uint64_t seed = 1; seed <= seeds; ++seed) {
         const Outcome o = race(t, seed);
         std::printf("%s seed %llu: %d/8 finished, %d respawns, mean %.1f s\n", name,
                     static_cast<unsigned long long>(seed), o.finished, o.respawns, o.mean_s);
+        finished += o.finished;
+        respawns += o.respawns;
+        lap_sum += o.mean_s * o.finished;
+        if (seed > 3) continue;
         EXPECT_EQ(o.finished, 8) << name << ", skill seed " << seed << ": " << o.respawns << " respawns";
         EXPECT_LE(o.respawns, 4) << name << ", skill seed " << seed;
     }
+    std::printf("%s seeds 1-%llu: %d/%llu finished, %.2f respawns a car, mean lap %.1f s\n", name,
+                static_cast<unsigned long long>(seeds), finished, static_cast<unsigned long long>(8 * seeds),
+                static_cast<double>(respawns) / static_cast<double>(8 * seeds), finished ? lap_sum / finished : 0.0);
 }
 
 }  // namespace

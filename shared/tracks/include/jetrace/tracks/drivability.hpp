@@ -58,8 +58,8 @@ struct DrivabilityLimits {
     /// Share of all faces that may be drivable (by the ride limit) and face
     /// downwards (unit: fraction). Ceilings and the undersides of decks
     /// face down on purpose; a mesh exported with flipped winding has most
-    /// of its floors facing down, and the driving AI's road profile sees
-    /// only faces whose normal points up.
+    /// of its floors facing down (the physics and the driving AI read faces
+    /// either way; renderers that cull back faces draw it inside out).
     double max_down_share = 0.25;
     /// Vertical extent more than this times the larger horizontal one is
     /// implausible (unit: ratio): a Z-up mesh read as Y-up, or a stray vertex.
