@@ -19,7 +19,7 @@
 #   6. runs every libFuzzer target of that build for a bounded time
 #      (tools/fuzz.sh).
 # Options: JETRACE_TEST_LABELS="quick" to run only some labels (default: all);
-# JETRACE_FUZZ_SECONDS per fuzz target (default 10).
+# JETRACE_FUZZ_SECONDS per fuzz target (default 6).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/tools/setup.sh"
@@ -68,5 +68,5 @@ ctest --test-dir "$asan" --output-on-failure -j "$(nproc)" -LE "net|realtime|ben
 # in-process suites drive the same server code here.
 ctest --test-dir "$asan" --output-on-failure -L net -LE "realtime|hosting" "${labels[@]}"
 
-echo "== fuzzing: every target for ${JETRACE_FUZZ_SECONDS:-10} s (tools/fuzz.sh, the targets of build-asan/)"
-JETRACE_FUZZ_BUILD="$asan" "$root/tools/fuzz.sh" "${JETRACE_FUZZ_SECONDS:-10}"
+echo "== fuzzing: every target for ${JETRACE_FUZZ_SECONDS:-6} s (tools/fuzz.sh, the targets of build-asan/)"
+JETRACE_FUZZ_BUILD="$asan" "$root/tools/fuzz.sh" "${JETRACE_FUZZ_SECONDS:-6}"

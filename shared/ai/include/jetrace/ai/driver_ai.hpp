@@ -1,14 +1,18 @@
 // A driving AI: follows the gates in order (pure pursuit along the line
-// through their centres), brakes for the corners and the crests within its
-// braking distance, lifts off in the air, and turns on the spot when it has made no
-// progress for a while. Deterministic and stateless: a function of the course
-// (the scene and its road profile) and the world (its only memory is the car's no-progress counter, part of
-// the state), so an offline race reproduces bit for bit and a bot driving a
-// predicted or a snapshot world needs nothing else.
+// through their centres), brakes for the corners, the crests and the
+// obstacles on its route within its braking distance, lifts off in the air,
+// thrusts and brakes when it rolls backwards, and when it has made no
+// progress for a while drives round the obstacle it is pinned against or
+// turns on the spot. Deterministic and stateless: a function of the course
+// (the scene and its road profile) and the world (its only memory is the
+// car's no-progress counter, part of the state), so an offline race
+// reproduces bit for bit and a bot driving a predicted or a snapshot world
+// needs nothing else (Pilot, pilot.hpp, runs it at 30 Hz).
 //
-// It relies on one property of a valid track: the straight line between the
-// centres of consecutive gates is drivable (no barrier across it). The
-// built-in tracks have it, and the OBJ import convention asks for it.
+// It plans no path: it drives the straight line between consecutive gates'
+// centres, round a block on it, so a leg that a long wall crosses, or that
+// needs a detour to a ramp, is not raced. `jetrace-track inspect` warns of
+// such a leg (gate_unreachable).
 #pragma once
 
 #include "jetrace/ai/road_profile.hpp"
