@@ -15,9 +15,9 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <functional>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -91,10 +91,7 @@ std::vector<std::unique_ptr<Bot>> make_bots(net::MemoryHub& hub, const Scene& sc
         client::ClientConfig cc;
         cc.name = "bot" + std::to_string(i);
         b->client = std::make_unique<client::RaceClient>(cc, scene, *b->net);
-        Bot* self = b.get();
-        b->input = [self](const Scene& sc, const WorldState& w, int slot) {
-            return self->pilot(sc, w, slot);
-        };
+        b->input = std::ref(b->pilot);
         bots.push_back(std::move(b));
     }
     return bots;

@@ -1,5 +1,6 @@
 #include "jetrace/ai/driver_ai.hpp"
 
+#include "ai_math.hpp"
 #include "gate_crossing.hpp"
 #include "unstick.hpp"
 
@@ -9,6 +10,8 @@
 #include <cmath>
 
 namespace jetrace {
+
+using ai_detail::in_plane;
 
 namespace {
 
@@ -27,8 +30,6 @@ bool touches_track(const Scene& sc, const Vec3& p) {
         return closest_point_within(p, sc.track.triangles[i], reach, cp) && (p - cp.point).squaredNorm() < reach2;
     });
 }
-
-Vec3 in_plane(const Vec3& v, const Vec3& n) { return v - n * v.dot(n); }
 
 // The gates as a closed polyline, seen from one car.
 struct Route {
@@ -117,20 +118,20 @@ bool needs_approach(const Checkpoint& g, const Vec3& p) {
     return past > -(side - g.half_width_m * 0.5);
 }
 
-// Where to steer: the route point ahead, moved sideways by `shift` (the
-// crossing place), unless the straight line to it would miss the next gate
-// (then that gate's centre, moved the same).
-Vec3 pursuit_point(const Route& r, const CarState& car, const Vec3& up, double ahead, double shift) {
+// Where to steer: the route point ahead, moved sideways by `shift`, unless
+// the straight line to it would miss the next gate (then that gate's
+// centre, moved the same).
+Vec3 pursuit_point(const Route& r, const CarState& car, const Vec3& up, double ahead, const Vec3& shift) {
     const Checkpoint& g = r.at(car.next_checkpoint);
     const Vec3 p = car.position;
     const double to_plane = (g.center - p).dot(g.normal);
     if (needs_approach(g, p)) return g.center - g.normal * kApproach_m;
-    const Vec3 x = route_point(r, car.next_checkpoint, p, up, ahead) + g.across * shift;
+    const Vec3 x = route_point(r, car.next_checkpoint, p, up, ahead) + shift;
     const double along = (x - p).dot(g.normal);
     if (to_plane <= 0.0 || along <= to_plane) return x;  // the aim is before the gate
     const Vec3 cross = p + (x - p) * (to_plane / along);
     if (std::abs((cross - g.center).dot(g.across)) <= g.half_width_m * 0.6) return x;
-    return g.center + g.across * shift;
+    return g.center + shift;
 }
 
 // Radius of the turn at gate `i` (unit: m; 0 when the route runs straight
@@ -284,9 +285,8 @@ Input drive(const Course& course, const WorldState& state, int slot, const Drive
     const double to_gate = in_plane(next.center - car.position, up).norm();
     const double ahead_m = std::max(std::clamp(speed * 0.5, 10.0, skill.lookahead_m), to_gate);
     const std::int32_t next_k = ((car.next_checkpoint % route.count) + route.count) % route.count;
-    const bool finishing = next_k == 0 && car.lap >= state.laps;
     const double cross_at = ai_detail::crossing_offset(course, state, next_k, car);
-    const Vec3 aim = pursuit_point(route, car, up, ahead_m, cross_at);
+    const Vec3 aim = pursuit_point(route, car, up, ahead_m, next.across * cross_at);
 
     const Vec3 d = normalized_or(in_plane(aim - car.position, up), fwd);
     const double lateral = d.dot(right);
@@ -304,6 +304,7 @@ Input drive(const Course& course, const WorldState& state, int slot, const Drive
     // rolling backwards is stopped by thrust and brake below).
     if (!touches_track(sc, car.position)) return Input::clamped(0, steer, 0);
 
+    const bool finishing = next_k == 0 && car.lap >= state.laps;
     double limit = speed_limit(sc, route, car, up, skill, finishing);
     if (!steep) {
         const double decel = sc.physics.brake_mps2 * 0.8;

@@ -1,5 +1,7 @@
 #include "gate_crossing.hpp"
 
+#include "ai_math.hpp"
+
 #include "jetrace/core/candidates.hpp"
 
 #include <algorithm>
@@ -10,8 +12,6 @@ namespace jetrace {
 namespace ai_detail {
 
 namespace {
-
-Vec3 in_plane(const Vec3& v, const Vec3& n) { return v - n * v.dot(n); }
 
 // Squared distance from `q` to the segment a-b in the plane across `up`.
 double segment_distance2(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& up) {

@@ -117,32 +117,34 @@ RoadProfile RoadProfile::build(const Track& track, const UniformGrid& grid, cons
     return p;
 }
 
-bool RoadProfile::obstacle(std::int32_t leg, double t) const {
+bool RoadProfile::locate(std::int32_t leg, double t, Place& out) const {
     const auto n = static_cast<std::int32_t>(legs());
     if (n == 0) return false;
-    const auto k = static_cast<std::size_t>(((leg % n) + n) % n);
-    const std::uint32_t first = first_[k];
-    const std::uint32_t intervals = first_[k + 1] - first - 1;
-    const auto j = std::min(static_cast<std::uint32_t>(std::clamp(t, 0.0, 1.0) * intervals), intervals - 1);
-    return obstacles_[first + j] != 0 || obstacles_[first + j + 1] != 0;
+    out.leg = static_cast<std::size_t>(((leg % n) + n) % n);
+    const std::uint32_t first = first_[out.leg];
+    const std::uint32_t intervals = first_[out.leg + 1] - first - 1;
+    out.u = std::clamp(t, 0.0, 1.0);
+    const double x = out.u * intervals;
+    const auto j = std::min(static_cast<std::uint32_t>(x), intervals - 1);
+    out.sample = first + j;
+    out.f = x - j;
+    return true;
+}
+
+bool RoadProfile::obstacle(std::int32_t leg, double t) const {
+    Place at;
+    return locate(leg, t, at) && (obstacles_[at.sample] != 0 || obstacles_[at.sample + 1] != 0);
 }
 
 bool RoadProfile::height(std::int32_t leg, double t, double& y) const {
-    const auto n = static_cast<std::int32_t>(legs());
-    if (n == 0) return false;
-    const auto k = static_cast<std::size_t>(((leg % n) + n) % n);
-    const std::uint32_t first = first_[k];
-    const std::uint32_t intervals = first_[k + 1] - first - 1;
-    const double u = std::clamp(t, 0.0, 1.0);
-    const double x = u * intervals;
-    const auto j = std::min(static_cast<std::uint32_t>(x), intervals - 1);
-    const std::int16_t o0 = offsets_[first + j], o1 = offsets_[first + j + 1];
+    Place at;
+    if (!locate(leg, t, at)) return false;
+    const std::int16_t o0 = offsets_[at.sample], o1 = offsets_[at.sample + 1];
     if (o0 == kNone || o1 == kNone) return false;
     // The route line is straight along the leg: its height and the offsets
     // interpolate alike.
-    const double y0 = gate_y_[(k + legs() - 1) % legs()], y1 = gate_y_[k];
-    const double f = x - j;
-    y = y0 + (y1 - y0) * u + (o0 + (o1 - o0) * f) * kResolution_m;
+    const double y0 = gate_y_[(at.leg + legs() - 1) % legs()], y1 = gate_y_[at.leg];
+    y = y0 + (y1 - y0) * at.u + (o0 + (o1 - o0) * at.f) * kResolution_m;
     return true;
 }
 

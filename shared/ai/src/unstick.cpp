@@ -1,5 +1,7 @@
 #include "unstick.hpp"
 
+#include "ai_math.hpp"
+
 #include "jetrace/core/candidates.hpp"
 
 #include <cmath>
@@ -8,8 +10,6 @@
 namespace jetrace::ai_detail {
 
 namespace {
-
-Vec3 in_plane(const Vec3& v, const Vec3& n) { return v - n * v.dot(n); }
 
 // The nearest point of a face steeper than the road (unit normal within
 // 45 degrees of level against `up`: a block's side, a barrier) within

@@ -7,13 +7,6 @@
 
 namespace jetrace::ai_detail {
 
-/// Heading error of unit direction `d` against the car's forward: about the
-/// angle (its sine) while ahead, beyond a right angle (2 - sine) when behind.
-inline double heading_error(const Vec3& d, const Vec3& fwd, const Vec3& right) {
-    const double lateral = d.dot(right);
-    return d.dot(fwd) > 0.0 ? lateral : (lateral >= 0.0 ? 2.0 - lateral : -2.0 - lateral);
-}
-
 /// The input for car `car` if it is stuck: no progress towards its gate
 /// for 1.5 s at under 6 m/s. `d` is the unit direction to its aim (in the
 /// plane across its up), `error` the heading error to it and `speed` its

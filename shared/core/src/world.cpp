@@ -114,12 +114,13 @@ Input effective_input(const WorldState& st, std::span<const Input> inputs, std::
     return in;
 }
 
-// The gather for a car's step from where it is (what drive_phase does).
-void gather_for_step(const Scene& sc, const CarState& car, CarScratch& cs) {
+// The gather for a car's step from `position` at `velocity` (what
+// drive_phase does).
+void gather_for_step(const Scene& sc, const Vec3& position, const Vec3& velocity, CarScratch& cs) {
     const PhysicsSettings& ps = sc.physics;
-    const double travel = car.velocity.norm() * ps.dt_s();
-    cs.candidates.lookahead = gather_lookahead(ps, car.velocity, travel);
-    keep_covered(sc.query(), car.position, gather_reach(ps, GatherFor::step, travel), cs.candidates);
+    const double travel = velocity.norm() * ps.dt_s();
+    cs.candidates.lookahead = gather_lookahead(ps, velocity, travel);
+    keep_covered(sc.query(), position, gather_reach(ps, GatherFor::step, travel), cs.candidates);
 }
 
 // Phase 1: sense contacts, apply controls and forces, integrate; a car at
@@ -146,7 +147,7 @@ void drive_phase(const Scene& sc, WorldState& st, std::span<const Input> inputs,
             cs.rest = motion_of(car);
             cs.rest_input = in;
         }
-        gather_for_step(sc, car, cs);
+        gather_for_step(sc, car.position, car.velocity, cs);
         ensure_contacts(sc, cs, car.position);
         const Vec3 v0 = car.velocity;
         apply_controls_and_forces(ps, cs.contacts, in, car);
@@ -172,11 +173,7 @@ void resolve_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
             }
             // Pushed by a car: the whole step from here, from the gather on.
             cs.asleep = false;
-            cs.candidate = false;
-            const Motion mid = motion_of(car);
-            set_motion(car, cs.rest);
-            gather_for_step(sc, car, cs);
-            set_motion(car, mid);
+            gather_for_step(sc, cs.rest.position, cs.rest.velocity, cs);
         }
         // Rounded to the wire resolution before the push-out, which then
         // checks the car where the step leaves it (resolve() rounds again
