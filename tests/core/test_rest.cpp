@@ -4,9 +4,12 @@
 // bit: races stepped with it and with it turned off (rest_valid cleared
 // before every step) agree at every tick, through a countdown (every car
 // braked at rest), a finish (finished cars held by the brake on the line)
-// and the cars that arrive later and run into them.
+// and the cars that arrive later and run into them, and a parked car that
+// the rules respawn for making no progress. The runs without it also forget
+// the race rules' kept distance to the gate (CarScratch::gate_distance).
 #include "jetrace/ai/offline_race.hpp"
 #include "jetrace/ai/pilot.hpp"
+#include "jetrace/core/race.hpp"
 #include "jetrace/tracks/builtin_tracks.hpp"
 
 #include <gtest/gtest.h>
@@ -19,6 +22,14 @@ namespace {
 struct Counts {
     int asleep = 0;  // car-steps that took the shortcut
 };
+
+// Turns the shortcut off for the next step, and the kept gate distance.
+void forget_rest(jetrace::StepScratch& s) {
+    for (auto& cs : s.cars) {
+        cs.rest_valid = false;
+        cs.gate_distance = {};
+    }
+}
 
 void expect_same_race(const char* track_name, int cars, std::uint64_t seed, std::uint32_t countdown,
                       std::uint32_t ticks, Counts& counts) {
@@ -37,7 +48,7 @@ void expect_same_race(const char* track_name, int cars, std::uint64_t seed, std:
     for (std::uint32_t k = 0; k < ticks; ++k) {
         for (int i = 0; i < cars; ++i) in[static_cast<std::size_t>(i)] = pilots[static_cast<std::size_t>(i)].next(course, a, i);
         jetrace::step(scene, a, in, with);
-        for (auto& cs : without.cars) cs.rest_valid = false;
+        forget_rest(without);
         jetrace::step(scene, b, in, without);
         for (const auto& cs : with.cars) counts.asleep += cs.asleep ? 1 : 0;
         ASSERT_EQ(jetrace::state_hash(a), jetrace::state_hash(b))
@@ -79,7 +90,7 @@ TEST(Rest, AParkedCarRunIntoIsPushedAsWithoutTheShortcut) {
     const jetrace::Vec3 parked_at = a.cars[0].position;
     for (int k = 0; k < 240; ++k) {
         jetrace::step(scene, a, in, with);
-        for (auto& cs : without.cars) cs.rest_valid = false;
+        forget_rest(without);
         jetrace::step(scene, b, in, without);
         if (!moved && with.cars[0].asleep) ++asleep_before_hit;
         moved = moved || (a.cars[0].position - parked_at).norm() > 0.5;
@@ -87,4 +98,43 @@ TEST(Rest, AParkedCarRunIntoIsPushedAsWithoutTheShortcut) {
     }
     EXPECT_GT(asleep_before_hit, 10);  // it slept before the hit
     EXPECT_TRUE(moved);                // and the hit moved it
+}
+
+TEST(Rest, AParkedCarThatMakesNoProgressIsRespawnedOnTheSameTickAsWithoutTheShortcut) {
+    // One car racing from tick 0 with no input: it settles on the grid and
+    // stays there, asleep, while the rules count its ticks without
+    // progress; after no_progress_s they respawn it, and it settles again.
+    jetrace::Track t;
+    ASSERT_TRUE(jetrace::make_builtin_track("ring", t));
+    const jetrace::Scene scene = jetrace::Scene::make(std::move(t), jetrace::PhysicsSettings{});
+    jetrace::WorldState a = jetrace::make_world(1, 1);
+    jetrace::spawn_car(scene, a, 0, 0);
+    jetrace::WorldState b = a;
+    jetrace::StepScratch with, without;
+    const jetrace::Input idle{};
+    const auto stall_ticks = static_cast<int>(scene.physics.no_progress_s * scene.physics.tick_rate_hz);
+    int asleep = 0;
+    for (int k = 0; k < stall_ticks + 240; ++k) {
+        jetrace::step(scene, a, {&idle, 1}, with);
+        forget_rest(without);
+        jetrace::step(scene, b, {&idle, 1}, without);
+        asleep += with.cars[0].asleep ? 1 : 0;
+        ASSERT_EQ(jetrace::state_hash(a), jetrace::state_hash(b)) << "after tick " << a.tick;
+    }
+    EXPECT_EQ(a.cars[0].respawns, 1u);
+    EXPECT_GT(asleep, stall_ticks - 240);  // asleep through most of the stall
+}
+
+TEST(Rest, TheCarCollisionsCountThePairsTheyChange) {
+    std::vector<jetrace::CarState> cars(3);
+    for (std::size_t i = 0; i < cars.size(); ++i) {
+        cars[i].active = true;
+        cars[i].position = jetrace::Vec3(20.0 * static_cast<double>(i), 0, 0);
+    }
+    const std::vector<jetrace::CarState> apart = cars;
+    EXPECT_EQ(jetrace::collide_cars(2.5, cars), 0);
+    for (std::size_t i = 0; i < cars.size(); ++i) EXPECT_EQ(cars[i].position, apart[i].position);
+    cars[1].position = jetrace::Vec3(3.0, 0, 0);  // 3 m from car 0: the radii overlap by 2 m
+    EXPECT_EQ(jetrace::collide_cars(2.5, cars), 1);
+    EXPECT_NEAR((cars[1].position - cars[0].position).norm(), 5.0, 1e-12);
 }

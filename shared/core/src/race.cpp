@@ -2,13 +2,35 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace jetrace {
 
+namespace {
+
+bool same_bits(const Vec3& a, const Vec3& b) { return std::memcmp(a.data(), b.data(), 3 * sizeof(double)) == 0; }
+
+// squared_distance_to_gate for the car's next gate, from `memo` if it was
+// computed there (bit for bit) for that gate.
+double gate_distance2(const Track& track, const CarState& car, GateDistanceMemo* memo) {
+    const Checkpoint& gate = track.checkpoints[static_cast<std::size_t>(car.next_checkpoint)];
+    if (memo == nullptr) return squared_distance_to_gate(gate, car.position);
+    if (memo->gate != car.next_checkpoint || !same_bits(memo->at, car.position)) {
+        memo->d2_m2 = squared_distance_to_gate(gate, car.position);
+        memo->at = car.position;
+        memo->gate = car.next_checkpoint;
+    }
+    return memo->d2_m2;
+}
+
+}  // namespace
+
 void apply_race_rules(const Track& track, const PhysicsSettings& ps, std::int32_t laps, std::uint32_t tick,
-                      bool racing, const Vec3& from, CarState& car) {
+                      bool racing, const Vec3& from, CarState& car, GateDistanceMemo* memo) {
     const auto gates = static_cast<std::int32_t>(track.checkpoints.size());
-    if (!car.finished && gates > 0) {
+    // A car that did not move cannot cross a gate (the test's two signed
+    // distances would be the same number).
+    if (!car.finished && gates > 0 && !same_bits(from, car.position)) {
         const Checkpoint& gate = track.checkpoints[static_cast<std::size_t>(car.next_checkpoint)];
         const GateCrossing c = cross_gate(gate, from, car.position);
         if (c.crossed) {
@@ -31,8 +53,7 @@ void apply_race_rules(const Track& track, const PhysicsSettings& ps, std::int32_
     if (racing && !car.finished && gates > 0) {
         // Progress: the distance to the gate, in whole metres, went down.
         const double goal = static_cast<double>(car.best_gate_distance_m);
-        const double d2 =
-            squared_distance_to_gate(track.checkpoints[static_cast<std::size_t>(car.next_checkpoint)], car.position);
+        const double d2 = gate_distance2(track, car, memo);
         if (d2 < goal * goal) {
             car.best_gate_distance_m = static_cast<std::int32_t>(std::floor(std::sqrt(d2)));
             car.no_progress_ticks = 0;
@@ -49,8 +70,9 @@ void apply_race_rules(const Track& track, const PhysicsSettings& ps, std::int32_
     }
 }
 
-void collide_cars(double radius_m, std::vector<CarState>& cars) {
-    if (cars.size() < 2) return;
+int collide_cars(double radius_m, std::vector<CarState>& cars) {
+    int pairs = 0;
+    if (cars.size() < 2) return pairs;
     const double min_dist = 2.0 * radius_m;
     const double min2 = min_dist * min_dist;
     for (std::size_t i = 0; i < cars.size(); ++i) {
@@ -69,6 +91,7 @@ void collide_cars(double radius_m, std::vector<CarState>& cars) {
             if (!(d2 < min2)) continue;
             const double dist = std::sqrt(d2);
             const Vec3 n = dist > 1e-9 ? Vec3(d / dist) : Vec3(1, 0, 0);
+            ++pairs;
             const double half = 0.5 * (min_dist - dist);
             a.position -= n * half;
             b.position += n * half;
@@ -79,6 +102,7 @@ void collide_cars(double radius_m, std::vector<CarState>& cars) {
             }
         }
     }
+    return pairs;
 }
 
 std::vector<Standing> standings(const Track& track, const std::vector<CarState>& cars, std::uint32_t start_tick,

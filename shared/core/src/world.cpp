@@ -136,7 +136,7 @@ void drive_phase(const Scene& sc, WorldState& st, std::span<const Input> inputs,
         const Input in = effective_input(st, inputs, i);
         cs.asleep = cs.rest_valid && in == cs.rest_input && same_motion(car, cs.rest);
         if (cs.asleep) {
-            set_motion(car, cs.rest_mid);
+            if (cs.rest_moves) set_motion(car, cs.rest_mid);
             continue;
         }
         // A car starting at rest may end its step as it started: record
@@ -156,8 +156,9 @@ void drive_phase(const Scene& sc, WorldState& st, std::span<const Input> inputs,
     }
 }
 
-// Phase 3: push each car out of the track.
-void resolve_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
+// Phase 3: push each car out of the track. `bumped`: the car collisions
+// changed some car.
+void resolve_phase(const Scene& sc, WorldState& st, StepScratch& scr, bool bumped) {
     scr.pushes = 0;
     scr.max_passes = 0;
     scr.capped = 0;
@@ -167,8 +168,8 @@ void resolve_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
         CarScratch& cs = scr.cars[i];
         if (cs.asleep) {
             // Untouched by the car collisions: its step ends where the last did.
-            if (same_motion(car, cs.rest_mid)) {
-                set_motion(car, cs.rest);
+            if (!bumped || same_motion(car, cs.rest_mid)) {
+                if (cs.rest_moves) set_motion(car, cs.rest);
                 continue;
             }
             // Pushed by a car: the whole step from here, from the gather on.
@@ -212,14 +213,18 @@ void rules_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
         CarState& car = st.cars[i];
         if (!car.active) continue;
         CarScratch& cs = scr.cars[i];
-        apply_race_rules(sc.track, ps, st.laps, st.tick, st.tick >= st.start_tick, cs.previous_position, car);
-        // Asleep and not respawned: the alignment and rounding are the last step's.
-        if (cs.asleep && same_motion(car, cs.rest)) continue;
+        const std::uint32_t respawns = car.respawns;
+        apply_race_rules(sc.track, ps, st.laps, st.tick, st.tick >= st.start_tick, cs.previous_position, car,
+                         &cs.gate_distance);
+        // Asleep (its motion `rest` again) and not respawned (the only way
+        // the rules move a car): the alignment and rounding are the last step's.
+        if (cs.asleep && car.respawns == respawns) continue;
         ensure_contacts(sc, cs, car.position);
         align_to_contacts(ps, cs.contacts, car);
         if (ps.quantize_state) quantize_orientation_cached(cs, car);
         // A step that left a car at rest exactly as it found it.
         cs.rest_valid = cs.candidate && same_motion(car, cs.rest);
+        if (cs.rest_valid) cs.rest_moves = !same_motion(car, cs.rest_mid);
         cs.candidate = false;
     }
 }
@@ -229,8 +234,8 @@ void rules_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
 void step(const Scene& scene, WorldState& state, std::span<const Input> inputs, StepScratch& scratch) {
     ensure_scratch(state.cars.size(), scratch);
     drive_phase(scene, state, inputs, scratch);
-    collide_cars(scene.physics.car_radius_m, state.cars);  // phase 2
-    resolve_phase(scene, state, scratch);
+    const bool bumped = collide_cars(scene.physics.car_radius_m, state.cars) > 0;  // phase 2
+    resolve_phase(scene, state, scratch, bumped);
     rules_phase(scene, state, scratch);
     ++state.tick;
 }

@@ -9,16 +9,28 @@
 
 namespace jetrace {
 
+/// The squared distance from a car to its next gate as the race rules last
+/// computed it, kept by the caller (a parked car asks for the same one
+/// tick after tick). A cache of a pure function of the track's gate and
+/// the position: it never changes a result. It belongs to one track.
+struct GateDistanceMemo {
+    Vec3 at{0, 0, 0};
+    std::int32_t gate = -1;  // none yet
+    double d2_m2 = 0;
+};
+
 /// Applies the rules to one car that moved from `from` to its position
 /// during tick `tick`: gate crossing, lap count, finish, respawn below the
-/// kill height or after stalling (racing only).
+/// kill height or after stalling (racing only). `memo`, if given, saves
+/// recomputing the distance to the gate from where it was last computed.
 void apply_race_rules(const Track& track, const PhysicsSettings& ps, std::int32_t laps, std::uint32_t tick,
-                      bool racing, const Vec3& from, CarState& car);
+                      bool racing, const Vec3& from, CarState& car, GateDistanceMemo* memo = nullptr);
 
 /// Equal-mass sphere-sphere collisions between all active cars, in slot-pair
 /// order (i < j): separate the pair and make the collision inelastic along
-/// the line of centres (momentum conserved).
-void collide_cars(double radius_m, std::vector<CarState>& cars);
+/// the line of centres (momentum conserved). Returns the pairs found
+/// overlapping (0: no car was changed).
+int collide_cars(double radius_m, std::vector<CarState>& cars);
 
 struct Standing {
     int slot = 0;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "jetrace/core/hovercar.hpp"
+#include "jetrace/core/race.hpp"
 #include "jetrace/core/resolver.hpp"
 #include "jetrace/core/settings.hpp"
 #include "jetrace/core/track.hpp"
@@ -72,6 +73,8 @@ struct CarScratch {
     /// alone, so it gives the same: the car takes `rest_mid` for the car
     /// collisions and, if no car touched it, `rest` again without the
     /// contacts, forces, push-out or alignment. The race rules still run.
+    /// `rest_moves`: `rest_mid` differs from `rest` (a car held still by the
+    /// track, not standing still in mid-step, is copied twice).
     struct Motion {
         Vec3 position{0, 0, 0};
         Vec3 velocity{0, 0, 0};
@@ -81,11 +84,14 @@ struct CarScratch {
     Motion rest_mid;
     Input rest_input{};
     bool rest_valid = false;
+    bool rest_moves = false;
     /// This step: the car started it with a zero velocity (its motion and
     /// input are recorded in `rest`, valid if the step ends where it
     /// began), or it is taking the shortcut (`asleep`).
     bool candidate = false;
     bool asleep = false;
+    /// The race rules' distance to the next gate, where they last measured it.
+    GateDistanceMemo gate_distance;
 };
 
 /// Per-step scratch owned by the caller; results never depend on its contents.
