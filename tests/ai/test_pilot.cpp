@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <vector>
 
 namespace {
@@ -89,4 +90,38 @@ TEST(Pilot, DecidesAtOnceOnItsFirstTickAfterAJumpAndAfterARespawn) {
     a.tick = 411;
     a.cars[0].respawns = 1;
     EXPECT_EQ(p.next(course, a, 0), in_b);  // held
+}
+
+TEST(Pilot, TheContactsTheStepKeptGiveTheSameDecisionsAsTheAisOwnQuery) {
+    // drive() told the car's step scratch reads "on the track?" from the
+    // contacts the step kept where the car is; every decision must be the
+    // one it makes without them, on the ground, in the air and respawned.
+    const jetrace::Scene scene = stadium();
+    const jetrace::Course course(scene);
+    constexpr int kCars = 8;
+    jetrace::WorldState st = jetrace::start_race(scene, kCars, 1);
+    const auto skills = jetrace::skills_for(kCars, 11);
+    std::vector<jetrace::Input> in(kCars);
+    jetrace::StepScratch scratch;
+    int kept_used = 0, kept_off_track = 0, decisions = 0;
+    for (int t = 0; t < 60 * 120; ++t) {
+        for (int i = 0; i < kCars; ++i) {
+            const auto k = static_cast<std::size_t>(i);
+            const jetrace::CarScratch* kept = t > 0 ? &scratch.cars[k] : nullptr;
+            const jetrace::Input with = jetrace::drive(course, st, i, skills[k], kept);
+            const jetrace::Input without = jetrace::drive(course, st, i, skills[k]);
+            ASSERT_EQ(with, without) << "car " << i << " at tick " << st.tick;
+            if (kept != nullptr && kept->contacts_valid && jetrace::same(kept->contacts_at, st.cars[k].position)) {
+                ++kept_used;
+                kept_off_track += kept->contacts.empty() ? 1 : 0;
+            }
+            ++decisions;
+            in[k] = with;
+        }
+        jetrace::step(scene, st, in, scratch);
+    }
+    std::printf("decisions %d, kept contacts used %d (%d of them off the track)\n", decisions, kept_used,
+                kept_off_track);
+    EXPECT_GT(kept_used, decisions * 9 / 10);
+    EXPECT_GT(kept_off_track, 0);  // the stadium's jumps: cars in the air
 }

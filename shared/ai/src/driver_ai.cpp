@@ -31,12 +31,22 @@ bool touches_track(const Scene& sc, const Vec3& p) {
     });
 }
 
+// touches_track(sc, car.position), from the contacts the step kept if it
+// found them at this very position (the same tests: within the contact
+// skin of the sphere).
+bool on_track(const Scene& sc, const CarState& car, const CarScratch* stepped) {
+    if (stepped != nullptr && stepped->contacts_valid && same(stepped->contacts_at, car.position)) {
+        return !stepped->contacts.empty();
+    }
+    return touches_track(sc, car.position);
+}
+
 // The gates as a closed polyline, seen from one car.
 struct Route {
     const std::vector<Checkpoint>& gates;
     std::int32_t count;
     const Checkpoint& at(std::int32_t i) const {
-        const std::int32_t k = ((i % count) + count) % count;
+        const std::int32_t k = i >= 0 && i < count ? i : ((i % count) + count) % count;
         return gates[static_cast<std::size_t>(k)];
     }
 };
@@ -208,12 +218,14 @@ double crest_limit(const Scene& sc, const RoadProfile& road, const Route& r, con
     double limit = 1e9;
     for (int k = 0; k <= n; ++k) {
         const Vec3& q = points[k].at;
-        ok[k] = road.height(points[k].leg, points[k].t, h[k]);
+        const RoadProfile::Sample road_here = road.sample(points[k].leg, points[k].t);
+        ok[k] = road_here.has_height;
+        h[k] = road_here.y;
         const double dx = q.x() - prev.x(), dz = q.z() - prev.z();
         s[k] = k == 0 ? 0.0 : s[k - 1] + std::sqrt(dx * dx + dz * dz);
         prev = q;
         // An obstacle on the route: arrive slowly enough to drive round it.
-        if (road.obstacle(points[k].leg, points[k].t)) {
+        if (road_here.obstacle) {
             limit = std::min(limit, std::sqrt(kAroundSpeed_mps * kAroundSpeed_mps + 2.0 * decel * s[k]));
         }
     }
@@ -268,7 +280,8 @@ const Course& CourseCache::operator()(const Scene& scene) {
     return *course_;
 }
 
-Input drive(const Course& course, const WorldState& state, int slot, const DriverSkill& skill) {
+Input drive(const Course& course, const WorldState& state, int slot, const DriverSkill& skill,
+            const CarScratch* stepped) {
     const Scene& sc = course.scene();
     const CarState& car = state.cars[static_cast<std::size_t>(slot)];
     const auto& gates = sc.track.checkpoints;
@@ -302,7 +315,7 @@ Input drive(const Course& course, const WorldState& state, int slot, const Drive
     // In the air thrust does nothing: lift off, keep the nose on the aim for
     // the landing (the grip turns the velocity after it; a car that lands
     // rolling backwards is stopped by thrust and brake below).
-    if (!touches_track(sc, car.position)) return Input::clamped(0, steer, 0);
+    if (!on_track(sc, car, stepped)) return Input::clamped(0, steer, 0);
 
     const bool finishing = next_k == 0 && car.lap >= state.laps;
     double limit = speed_limit(sc, route, car, up, skill, finishing);

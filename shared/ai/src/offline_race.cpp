@@ -37,7 +37,7 @@ std::uint32_t run_ai(const Course& course, WorldState& state, const std::vector<
     for (std::uint32_t t = 0; t < ticks; ++t) {
         bool all_done = true;
         for (std::size_t i = 0; i < state.cars.size(); ++i) {
-            inputs[i] = pilots[i].next(course, state, static_cast<int>(i));
+            inputs[i] = pilots[i].next(course, state, static_cast<int>(i), &scratch);
             if (state.cars[i].active && !state.cars[i].finished) all_done = false;
         }
         if (stop_when_finished && all_done) return t;

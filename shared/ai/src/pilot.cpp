@@ -10,11 +10,13 @@ std::uint32_t think_ticks(double tick_rate_hz) {
     return every >= 1.0 ? static_cast<std::uint32_t>(std::min(every, 1e6)) : 1u;
 }
 
-Input Pilot::next(const Course& course, const WorldState& state, int slot) {
-    const CarState& car = state.cars[static_cast<std::size_t>(slot)];
+Input Pilot::next(const Course& course, const WorldState& state, int slot, const StepScratch* stepped) {
+    const auto i = static_cast<std::size_t>(slot);
+    const CarState& car = state.cars[i];
     const bool follows = holding_ && state.tick == last_tick_ + 1 && car.respawns == respawns_;
     if (!follows || thinks_on(state.tick, slot, think_ticks(course.scene().physics.tick_rate_hz))) {
-        held_ = drive(course, state, slot, skill_);
+        const CarScratch* kept = stepped != nullptr && i < stepped->cars.size() ? &stepped->cars[i] : nullptr;
+        held_ = drive(course, state, slot, skill_, kept);
         holding_ = true;
     }
     last_tick_ = state.tick;

@@ -120,7 +120,10 @@ RoadProfile RoadProfile::build(const Track& track, const UniformGrid& grid, cons
 bool RoadProfile::locate(std::int32_t leg, double t, Place& out) const {
     const auto n = static_cast<std::int32_t>(legs());
     if (n == 0) return false;
-    out.leg = static_cast<std::size_t>(((leg % n) + n) % n);
+    // The AI asks about the legs ahead, rarely past one lap: no division
+    // for a leg already in range.
+    const std::int32_t k = leg >= 0 && leg < n ? leg : ((leg % n) + n) % n;
+    out.leg = static_cast<std::size_t>(k);
     const std::uint32_t first = first_[out.leg];
     const std::uint32_t intervals = first_[out.leg + 1] - first - 1;
     out.u = std::clamp(t, 0.0, 1.0);
@@ -131,21 +134,27 @@ bool RoadProfile::locate(std::int32_t leg, double t, Place& out) const {
     return true;
 }
 
-bool RoadProfile::obstacle(std::int32_t leg, double t) const {
-    Place at;
-    return locate(leg, t, at) && (obstacles_[at.sample] != 0 || obstacles_[at.sample + 1] != 0);
-}
+bool RoadProfile::obstacle(std::int32_t leg, double t) const { return sample(leg, t).obstacle; }
 
 bool RoadProfile::height(std::int32_t leg, double t, double& y) const {
+    const Sample s = sample(leg, t);
+    if (s.has_height) y = s.y;
+    return s.has_height;
+}
+
+RoadProfile::Sample RoadProfile::sample(std::int32_t leg, double t) const {
+    Sample out;
     Place at;
-    if (!locate(leg, t, at)) return false;
+    if (!locate(leg, t, at)) return out;
+    out.obstacle = obstacles_[at.sample] != 0 || obstacles_[at.sample + 1] != 0;
     const std::int16_t o0 = offsets_[at.sample], o1 = offsets_[at.sample + 1];
-    if (o0 == kNone || o1 == kNone) return false;
+    if (o0 == kNone || o1 == kNone) return out;
     // The route line is straight along the leg: its height and the offsets
     // interpolate alike.
-    const double y0 = gate_y_[(at.leg + legs() - 1) % legs()], y1 = gate_y_[at.leg];
-    y = y0 + (y1 - y0) * at.u + (o0 + (o1 - o0) * at.f) * kResolution_m;
-    return true;
+    const double y0 = gate_y_[at.leg == 0 ? legs() - 1 : at.leg - 1], y1 = gate_y_[at.leg];
+    out.y = y0 + (y1 - y0) * at.u + (o0 + (o1 - o0) * at.f) * kResolution_m;
+    out.has_height = true;
+    return out;
 }
 
 std::size_t RoadProfile::memory_bytes() const {

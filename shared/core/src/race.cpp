@@ -29,8 +29,9 @@ void apply_race_rules(const Track& track, const PhysicsSettings& ps, std::int32_
                       bool racing, const Vec3& from, CarState& car, GateDistanceMemo* memo) {
     const auto gates = static_cast<std::int32_t>(track.checkpoints.size());
     // A car that did not move cannot cross a gate (the test's two signed
-    // distances would be the same number).
-    if (!car.finished && gates > 0 && !same_bits(from, car.position)) {
+    // distances would be the same number); only a memo's caller asks.
+    const bool still = memo != nullptr && same_bits(from, car.position);
+    if (!car.finished && gates > 0 && !still) {
         const Checkpoint& gate = track.checkpoints[static_cast<std::size_t>(car.next_checkpoint)];
         const GateCrossing c = cross_gate(gate, from, car.position);
         if (c.crossed) {

@@ -214,8 +214,9 @@ void rules_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
         if (!car.active) continue;
         CarScratch& cs = scr.cars[i];
         const std::uint32_t respawns = car.respawns;
+        // A parked car asks for the gate distance of the same place tick after tick.
         apply_race_rules(sc.track, ps, st.laps, st.tick, st.tick >= st.start_tick, cs.previous_position, car,
-                         &cs.gate_distance);
+                         cs.asleep ? &cs.gate_distance : nullptr);
         // Asleep (its motion `rest` again) and not respawned (the only way
         // the rules move a car): the alignment and rounding are the last step's.
         if (cs.asleep && car.respawns == respawns) continue;

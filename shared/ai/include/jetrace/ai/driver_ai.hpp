@@ -86,7 +86,12 @@ private:
     std::size_t gates_ = 0;
 };
 
-/// The input the AI gives car `slot` for the next tick.
-Input drive(const Course& course, const WorldState& state, int slot, const DriverSkill& skill = {});
+/// The input the AI gives car `slot` for the next tick. `stepped`, if
+/// given, is the car's scratch from the step that made `state` on the
+/// course's scene: where it kept the contacts at the car's very position,
+/// they tell whether the car is on the track (the same answer as the AI's
+/// own query, which it then skips).
+Input drive(const Course& course, const WorldState& state, int slot, const DriverSkill& skill = {},
+            const CarScratch* stepped = nullptr);
 
 }  // namespace jetrace

@@ -38,7 +38,9 @@ public:
     /// It decides on its thinking ticks, and on any other if it has not
     /// decided on the tick before (its first tick, a world that jumped, as
     /// a client's does when it resynchronises) or the car was respawned.
-    Input next(const Course& course, const WorldState& state, int slot);
+    /// `stepped`: the scratch of the step that made `state`, if the caller
+    /// has it (drive() reads the contacts it kept; the same decisions).
+    Input next(const Course& course, const WorldState& state, int slot, const StepScratch* stepped = nullptr);
 
     const DriverSkill& skill() const { return skill_; }
 

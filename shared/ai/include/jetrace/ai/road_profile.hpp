@@ -48,6 +48,14 @@ public:
     /// a car drives on there, in either of the two samples around it.
     bool obstacle(std::int32_t leg, double t) const;
 
+    /// height() and obstacle() at one point, located once.
+    struct Sample {
+        bool has_height = false;
+        double y = 0;  // valid if has_height (unit: m)
+        bool obstacle = false;
+    };
+    Sample sample(std::int32_t leg, double t) const;
+
     std::size_t legs() const { return gate_y_.size(); }
     std::size_t memory_bytes() const;
 

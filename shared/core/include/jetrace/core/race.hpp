@@ -21,8 +21,11 @@ struct GateDistanceMemo {
 
 /// Applies the rules to one car that moved from `from` to its position
 /// during tick `tick`: gate crossing, lap count, finish, respawn below the
-/// kill height or after stalling (racing only). `memo`, if given, saves
-/// recomputing the distance to the gate from where it was last computed.
+/// kill height or after stalling (racing only). `memo`, for a car that
+/// may not have moved since the rules last saw it (a parked car), saves
+/// the gate-crossing test of a car that did not move and recomputing the
+/// distance to the gate from where it was last computed; any car may be
+/// given one, it changes no result (a moving car only pays its checks).
 void apply_race_rules(const Track& track, const PhysicsSettings& ps, std::int32_t laps, std::uint32_t tick,
                       bool racing, const Vec3& from, CarState& car, GateDistanceMemo* memo = nullptr);
 

@@ -90,7 +90,8 @@ struct CarScratch {
     /// began), or it is taking the shortcut (`asleep`).
     bool candidate = false;
     bool asleep = false;
-    /// The race rules' distance to the next gate, where they last measured it.
+    /// The race rules' distance to the next gate, where they last measured
+    /// it for this car asleep.
     GateDistanceMemo gate_distance;
 };
 
