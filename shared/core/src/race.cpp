@@ -2,36 +2,32 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
 namespace jetrace {
 
 namespace {
 
-bool same_bits(const Vec3& a, const Vec3& b) { return std::memcmp(a.data(), b.data(), 3 * sizeof(double)) == 0; }
-
 // squared_distance_to_gate for the car's next gate, from `memo` if it was
-// computed there (bit for bit) for that gate.
-double gate_distance2(const Track& track, const CarState& car, GateDistanceMemo* memo) {
-    const Checkpoint& gate = track.checkpoints[static_cast<std::size_t>(car.next_checkpoint)];
-    if (memo == nullptr) return squared_distance_to_gate(gate, car.position);
-    if (memo->gate != car.next_checkpoint || !same_bits(memo->at, car.position)) {
-        memo->d2_m2 = squared_distance_to_gate(gate, car.position);
-        memo->at = car.position;
-        memo->gate = car.next_checkpoint;
+// computed there for that gate (same(): -0 and +0 give the same distance).
+double gate_distance2(const Track& track, const CarState& car, GateDistanceMemo& memo) {
+    if (memo.gate != car.next_checkpoint || !same(memo.at, car.position)) {
+        memo.d2_m2 = squared_distance_to_gate(track.checkpoints[static_cast<std::size_t>(car.next_checkpoint)],
+                                              car.position);
+        memo.at = car.position;
+        memo.gate = car.next_checkpoint;
     }
-    return memo->d2_m2;
+    return memo.d2_m2;
 }
 
-}  // namespace
-
-void apply_race_rules(const Track& track, const PhysicsSettings& ps, std::int32_t laps, std::uint32_t tick,
-                      bool racing, const Vec3& from, CarState& car, GateDistanceMemo* memo) {
+// The rules; kStill: for a car that did not move (`from` is its position),
+// which cannot cross a gate (the test's two signed distances would be one
+// number), its distance to the gate taken from `memo` where it was
+// computed at that very place.
+template <bool kStill>
+void rules(const Track& track, const PhysicsSettings& ps, std::int32_t laps, std::uint32_t tick, bool racing,
+           const Vec3& from, CarState& car, GateDistanceMemo* memo) {
     const auto gates = static_cast<std::int32_t>(track.checkpoints.size());
-    // A car that did not move cannot cross a gate (the test's two signed
-    // distances would be the same number); only a memo's caller asks.
-    const bool still = memo != nullptr && same_bits(from, car.position);
-    if (!car.finished && gates > 0 && !still) {
+    if (!kStill && !car.finished && gates > 0) {
         const Checkpoint& gate = track.checkpoints[static_cast<std::size_t>(car.next_checkpoint)];
         const GateCrossing c = cross_gate(gate, from, car.position);
         if (c.crossed) {
@@ -54,7 +50,10 @@ void apply_race_rules(const Track& track, const PhysicsSettings& ps, std::int32_
     if (racing && !car.finished && gates > 0) {
         // Progress: the distance to the gate, in whole metres, went down.
         const double goal = static_cast<double>(car.best_gate_distance_m);
-        const double d2 = gate_distance2(track, car, memo);
+        const double d2 =
+            kStill ? gate_distance2(track, car, *memo)
+                   : squared_distance_to_gate(track.checkpoints[static_cast<std::size_t>(car.next_checkpoint)],
+                                              car.position);
         if (d2 < goal * goal) {
             car.best_gate_distance_m = static_cast<std::int32_t>(std::floor(std::sqrt(d2)));
             car.no_progress_ticks = 0;
@@ -69,6 +68,18 @@ void apply_race_rules(const Track& track, const PhysicsSettings& ps, std::int32_
         car.no_progress_ticks = 0;
         ++car.respawns;
     }
+}
+
+}  // namespace
+
+void apply_race_rules(const Track& track, const PhysicsSettings& ps, std::int32_t laps, std::uint32_t tick,
+                      bool racing, const Vec3& from, CarState& car) {
+    rules<false>(track, ps, laps, tick, racing, from, car, nullptr);
+}
+
+void apply_race_rules_still(const Track& track, const PhysicsSettings& ps, std::int32_t laps, std::uint32_t tick,
+                            bool racing, CarState& car, GateDistanceMemo& memo) {
+    rules<true>(track, ps, laps, tick, racing, car.position, car, &memo);
 }
 
 int collide_cars(double radius_m, std::vector<CarState>& cars) {

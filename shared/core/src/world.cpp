@@ -214,9 +214,15 @@ void rules_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
         if (!car.active) continue;
         CarScratch& cs = scr.cars[i];
         const std::uint32_t respawns = car.respawns;
-        // A parked car asks for the gate distance of the same place tick after tick.
-        apply_race_rules(sc.track, ps, st.laps, st.tick, st.tick >= st.start_tick, cs.previous_position, car,
-                         cs.asleep ? &cs.gate_distance : nullptr);
+        const bool racing = st.tick >= st.start_tick;
+        if (cs.asleep) {
+            // Parked: where the step began (its motion `rest`), and asking
+            // for the gate distance of the same place tick after tick.
+            assert(same_bits(car.position, cs.previous_position));
+            apply_race_rules_still(sc.track, ps, st.laps, st.tick, racing, car, cs.gate_distance);
+        } else {
+            apply_race_rules(sc.track, ps, st.laps, st.tick, racing, cs.previous_position, car);
+        }
         // Asleep (its motion `rest` again) and not respawned (the only way
         // the rules move a car): the alignment and rounding are the last step's.
         if (cs.asleep && car.respawns == respawns) continue;

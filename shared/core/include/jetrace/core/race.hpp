@@ -9,25 +9,30 @@
 
 namespace jetrace {
 
+/// Applies the rules to one car that moved from `from` to its position
+/// during tick `tick`: gate crossing, lap count, finish, respawn below the
+/// kill height or after stalling (racing only).
+void apply_race_rules(const Track& track, const PhysicsSettings& ps, std::int32_t laps, std::uint32_t tick,
+                      bool racing, const Vec3& from, CarState& car);
+
 /// The squared distance from a car to its next gate as the race rules last
-/// computed it, kept by the caller (a parked car asks for the same one
-/// tick after tick). A cache of a pure function of the track's gate and
-/// the position: it never changes a result. It belongs to one track.
+/// computed it for a car that did not move, kept by the caller (a parked
+/// car asks for the same one tick after tick). A cache of a pure function
+/// of the track's gate and the position: it never changes a result. It
+/// belongs to one track.
 struct GateDistanceMemo {
     Vec3 at{0, 0, 0};
     std::int32_t gate = -1;  // none yet
     double d2_m2 = 0;
 };
 
-/// Applies the rules to one car that moved from `from` to its position
-/// during tick `tick`: gate crossing, lap count, finish, respawn below the
-/// kill height or after stalling (racing only). `memo`, for a car that
-/// may not have moved since the rules last saw it (a parked car), saves
-/// the gate-crossing test of a car that did not move and recomputing the
-/// distance to the gate from where it was last computed; any car may be
-/// given one, it changes no result (a moving car only pays its checks).
-void apply_race_rules(const Track& track, const PhysicsSettings& ps, std::int32_t laps, std::uint32_t tick,
-                      bool racing, const Vec3& from, CarState& car, GateDistanceMemo* memo = nullptr);
+/// apply_race_rules() for a car that has not moved during tick `tick` (its
+/// position is, bit for bit, where the tick began: a parked car), which
+/// crosses no gate; its distance to the gate comes from `memo` where the
+/// memo has it. The same result as apply_race_rules() with `from` its
+/// position.
+void apply_race_rules_still(const Track& track, const PhysicsSettings& ps, std::int32_t laps, std::uint32_t tick,
+                            bool racing, CarState& car, GateDistanceMemo& memo);
 
 /// Equal-mass sphere-sphere collisions between all active cars, in slot-pair
 /// order (i < j): separate the pair and make the collision inelastic along
