@@ -14,7 +14,12 @@ Input Pilot::next(const Course& course, const WorldState& state, int slot, const
     const auto i = static_cast<std::size_t>(slot);
     const CarState& car = state.cars[i];
     const bool follows = holding_ && state.tick == last_tick_ + 1 && car.respawns == respawns_;
-    if (!follows || thinks_on(state.tick, slot, think_ticks(course.scene().physics.tick_rate_hz))) {
+    const int rate_hz = course.scene().physics.tick_rate_hz;
+    if (rate_hz != rate_hz_) {
+        rate_hz_ = rate_hz;
+        every_ = think_ticks(rate_hz);
+    }
+    if (!follows || thinks_on(state.tick, slot, every_)) {
         const CarScratch* kept = stepped != nullptr && i < stepped->cars.size() ? &stepped->cars[i] : nullptr;
         held_ = drive(course, state, slot, skill_, kept);
         holding_ = true;

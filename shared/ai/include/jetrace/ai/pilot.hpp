@@ -49,6 +49,9 @@ private:
     CourseCache course_;
     Input held_{};
     bool holding_ = false;
+    // think_ticks() of the tick rate last raced at (kept: it rounds).
+    int rate_hz_ = 0;
+    std::uint32_t every_ = 1;
     std::uint32_t last_tick_ = 0;
     std::uint32_t respawns_ = 0;
 };
