@@ -119,8 +119,12 @@ Input effective_input(const WorldState& st, std::span<const Input> inputs, std::
 void gather_for_step(const Scene& sc, const Vec3& position, const Vec3& velocity, CarScratch& cs) {
     const PhysicsSettings& ps = sc.physics;
     const double travel = velocity.norm() * ps.dt_s();
+    const GatherReach reach = gather_reach(ps, GatherFor::step, travel);
+    if (cs.candidates.covers(position, reach.cover_m)) return;
+    // The look-ahead shapes a gather's region (never a result): worked out
+    // only when the step gathers.
     cs.candidates.lookahead = gather_lookahead(ps, velocity, travel);
-    keep_covered(sc.query(), position, gather_reach(ps, GatherFor::step, travel), cs.candidates);
+    gather_candidates(sc.query(), position, reach.gather_m, cs.candidates);
 }
 
 // Phase 1: sense contacts, apply controls and forces, integrate; a car at

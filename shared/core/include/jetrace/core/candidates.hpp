@@ -97,8 +97,10 @@ struct Candidates {
     /// The box they were gathered for.
     Aabb region;
     /// Displacement the car will make over the next few steps at its
-    /// current velocity (unit: m; set each step): a gather also covers the
-    /// region ahead, so one gather serves those steps.
+    /// current velocity (unit: m; set by the step when it gathers, and kept
+    /// for the gathers the push-out may make later in that step and the
+    /// next): a gather also covers the region ahead, so one gather serves
+    /// those steps.
     Vec3 lookahead{0, 0, 0};
     bool all = false;  // brute force: every triangle
     /// The gather's scratch (kept to keep its capacity).
