@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <span>
 #include <vector>
 
 namespace {
@@ -23,36 +24,46 @@ struct Counts {
     int asleep = 0;  // car-steps that took the shortcut
 };
 
-// Turns the shortcut off for the next step, and the kept gate distance.
-void forget_rest(jetrace::StepScratch& s) {
-    for (auto& cs : s.cars) {
-        cs.rest_valid = false;
-        cs.gate_distance = {};
-    }
+jetrace::Scene builtin_scene(const char* track_name) {
+    jetrace::Track t;
+    EXPECT_TRUE(jetrace::make_builtin_track(track_name, t)) << track_name;
+    return jetrace::Scene::make(std::move(t), jetrace::PhysicsSettings{});
 }
+
+// One world stepped twice alike: `a` as the step runs, `b` with the
+// shortcut and the kept gate distance forgotten before every step.
+struct Twins {
+    jetrace::WorldState a, b;
+    jetrace::StepScratch with, without;
+
+    explicit Twins(const jetrace::WorldState& start) : a(start), b(start) {}
+    // Steps both; true if they agree after it.
+    bool step(const jetrace::Scene& scene, std::span<const jetrace::Input> in) {
+        jetrace::step(scene, a, in, with);
+        for (auto& cs : without.cars) {
+            cs.rest_valid = false;
+            cs.gate_distance = {};
+        }
+        jetrace::step(scene, b, in, without);
+        return jetrace::state_hash(a) == jetrace::state_hash(b);
+    }
+};
 
 void expect_same_race(const char* track_name, int cars, std::uint64_t seed, std::uint32_t countdown,
                       std::uint32_t ticks, Counts& counts) {
-    jetrace::Track t;
-    ASSERT_TRUE(jetrace::make_builtin_track(track_name, t));
-    const jetrace::Scene scene = jetrace::Scene::make(std::move(t), jetrace::PhysicsSettings{});
+    const jetrace::Scene scene = builtin_scene(track_name);
     const jetrace::Course course(scene);
-    jetrace::WorldState a = jetrace::make_world(cars, 1, countdown);
-    for (int i = 0; i < cars; ++i) jetrace::spawn_car(scene, a, i, i);
-    jetrace::WorldState b = a;
+    jetrace::WorldState start = jetrace::make_world(cars, 1, countdown);
+    for (int i = 0; i < cars; ++i) jetrace::spawn_car(scene, start, i, i);
+    Twins w(start);
     const auto skills = jetrace::skills_for(cars, seed);
     std::vector<jetrace::Pilot> pilots;
     for (const auto& s : skills) pilots.emplace_back(s);
-    jetrace::StepScratch with, without;
     std::vector<jetrace::Input> in(static_cast<std::size_t>(cars));
     for (std::uint32_t k = 0; k < ticks; ++k) {
-        for (int i = 0; i < cars; ++i) in[static_cast<std::size_t>(i)] = pilots[static_cast<std::size_t>(i)].next(course, a, i);
-        jetrace::step(scene, a, in, with);
-        forget_rest(without);
-        jetrace::step(scene, b, in, without);
-        for (const auto& cs : with.cars) counts.asleep += cs.asleep ? 1 : 0;
-        ASSERT_EQ(jetrace::state_hash(a), jetrace::state_hash(b))
-            << track_name << ", seed " << seed << ": the worlds differ after tick " << a.tick;
+        for (int i = 0; i < cars; ++i) in[static_cast<std::size_t>(i)] = pilots[static_cast<std::size_t>(i)].next(course, w.a, i);
+        ASSERT_TRUE(w.step(scene, in)) << track_name << ", seed " << seed << ": the worlds differ after tick " << w.a.tick;
+        for (const auto& cs : w.with.cars) counts.asleep += cs.asleep ? 1 : 0;
     }
 }
 
@@ -72,29 +83,23 @@ TEST(Rest, AParkedCarRunIntoIsPushedAsWithoutTheShortcut) {
     // Two cars: one parked (finished and braked) on the road, one driven
     // into it from behind at 30 m/s; the shortcut must give way to the
     // whole step when the other car moves it.
-    jetrace::Track t;
-    ASSERT_TRUE(jetrace::make_builtin_track("ring", t));
-    const jetrace::Scene scene = jetrace::Scene::make(std::move(t), jetrace::PhysicsSettings{});
-    jetrace::WorldState a = jetrace::make_world(2, 1);
-    jetrace::spawn_car(scene, a, 0, 0);
-    jetrace::spawn_car(scene, a, 1, 0);
-    a.cars[0].finished = true;
-    jetrace::CarState& hitter = a.cars[1];
+    const jetrace::Scene scene = builtin_scene("ring");
+    jetrace::WorldState start = jetrace::make_world(2, 1);
+    jetrace::spawn_car(scene, start, 0, 0);
+    jetrace::spawn_car(scene, start, 1, 0);
+    start.cars[0].finished = true;
+    jetrace::CarState& hitter = start.cars[1];
     hitter.position -= hitter.forward() * 30.0;
     hitter.velocity = hitter.forward() * 30.0;
-    jetrace::WorldState b = a;
-    jetrace::StepScratch with, without;
+    Twins w(start);
     const std::vector<jetrace::Input> in = {jetrace::Input{}, jetrace::Input{}};
     int asleep_before_hit = 0;
     bool moved = false;
-    const jetrace::Vec3 parked_at = a.cars[0].position;
+    const jetrace::Vec3 parked_at = start.cars[0].position;
     for (int k = 0; k < 240; ++k) {
-        jetrace::step(scene, a, in, with);
-        forget_rest(without);
-        jetrace::step(scene, b, in, without);
-        if (!moved && with.cars[0].asleep) ++asleep_before_hit;
-        moved = moved || (a.cars[0].position - parked_at).norm() > 0.5;
-        ASSERT_EQ(jetrace::state_hash(a), jetrace::state_hash(b)) << "after tick " << a.tick;
+        ASSERT_TRUE(w.step(scene, in)) << "the worlds differ after tick " << w.a.tick;
+        if (!moved && w.with.cars[0].asleep) ++asleep_before_hit;
+        moved = moved || (w.a.cars[0].position - parked_at).norm() > 0.5;
     }
     EXPECT_GT(asleep_before_hit, 10);  // it slept before the hit
     EXPECT_TRUE(moved);                // and the hit moved it
@@ -104,24 +109,18 @@ TEST(Rest, AParkedCarThatMakesNoProgressIsRespawnedOnTheSameTickAsWithoutTheShor
     // One car racing from tick 0 with no input: it settles on the grid and
     // stays there, asleep, while the rules count its ticks without
     // progress; after no_progress_s they respawn it, and it settles again.
-    jetrace::Track t;
-    ASSERT_TRUE(jetrace::make_builtin_track("ring", t));
-    const jetrace::Scene scene = jetrace::Scene::make(std::move(t), jetrace::PhysicsSettings{});
-    jetrace::WorldState a = jetrace::make_world(1, 1);
-    jetrace::spawn_car(scene, a, 0, 0);
-    jetrace::WorldState b = a;
-    jetrace::StepScratch with, without;
+    const jetrace::Scene scene = builtin_scene("ring");
+    jetrace::WorldState start = jetrace::make_world(1, 1);
+    jetrace::spawn_car(scene, start, 0, 0);
+    Twins w(start);
     const jetrace::Input idle{};
     const auto stall_ticks = static_cast<int>(scene.physics.no_progress_s * scene.physics.tick_rate_hz);
     int asleep = 0;
     for (int k = 0; k < stall_ticks + 240; ++k) {
-        jetrace::step(scene, a, {&idle, 1}, with);
-        forget_rest(without);
-        jetrace::step(scene, b, {&idle, 1}, without);
-        asleep += with.cars[0].asleep ? 1 : 0;
-        ASSERT_EQ(jetrace::state_hash(a), jetrace::state_hash(b)) << "after tick " << a.tick;
+        ASSERT_TRUE(w.step(scene, {&idle, 1})) << "the worlds differ after tick " << w.a.tick;
+        asleep += w.with.cars[0].asleep ? 1 : 0;
     }
-    EXPECT_EQ(a.cars[0].respawns, 1u);
+    EXPECT_EQ(w.a.cars[0].respawns, 1u);
     EXPECT_GT(asleep, stall_ticks - 240);  // asleep through most of the stall
 }
 

@@ -4,7 +4,13 @@
 
 #include "jetrace/core/math.hpp"
 
+#include <cstdint>
+
 namespace jetrace::ai_detail {
+
+/// `i` modulo `n` (n > 0) in [0, n), negative `i` included; no division
+/// for an `i` already in range (the legs and gates just ahead).
+inline std::int32_t wrap(std::int32_t i, std::int32_t n) { return i >= 0 && i < n ? i : ((i % n) + n) % n; }
 
 /// The part of `v` in the plane across unit vector `n`.
 inline Vec3 in_plane(const Vec3& v, const Vec3& n) { return v - n * v.dot(n); }

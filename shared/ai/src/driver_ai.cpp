@@ -46,8 +46,7 @@ struct Route {
     const std::vector<Checkpoint>& gates;
     std::int32_t count;
     const Checkpoint& at(std::int32_t i) const {
-        const std::int32_t k = i >= 0 && i < count ? i : ((i % count) + count) % count;
-        return gates[static_cast<std::size_t>(k)];
+        return gates[static_cast<std::size_t>(ai_detail::wrap(i, count))];
     }
 };
 
@@ -297,7 +296,7 @@ Input drive(const Course& course, const WorldState& state, int slot, const Drive
     const Checkpoint& next = route.at(car.next_checkpoint);
     const double to_gate = in_plane(next.center - car.position, up).norm();
     const double ahead_m = std::max(std::clamp(speed * 0.5, 10.0, skill.lookahead_m), to_gate);
-    const std::int32_t next_k = ((car.next_checkpoint % route.count) + route.count) % route.count;
+    const std::int32_t next_k = ai_detail::wrap(car.next_checkpoint, route.count);
     const double cross_at = ai_detail::crossing_offset(course, state, next_k, car);
     const Vec3 aim = pursuit_point(route, car, up, ahead_m, next.across * cross_at);
 

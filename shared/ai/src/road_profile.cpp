@@ -1,5 +1,7 @@
 #include "jetrace/ai/road_profile.hpp"
 
+#include "ai_math.hpp"
+
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -117,23 +119,6 @@ RoadProfile RoadProfile::build(const Track& track, const UniformGrid& grid, cons
     return p;
 }
 
-bool RoadProfile::locate(std::int32_t leg, double t, Place& out) const {
-    const auto n = static_cast<std::int32_t>(legs());
-    if (n == 0) return false;
-    // The AI asks about the legs ahead, rarely past one lap: no division
-    // for a leg already in range.
-    const std::int32_t k = leg >= 0 && leg < n ? leg : ((leg % n) + n) % n;
-    out.leg = static_cast<std::size_t>(k);
-    const std::uint32_t first = first_[out.leg];
-    const std::uint32_t intervals = first_[out.leg + 1] - first - 1;
-    out.u = std::clamp(t, 0.0, 1.0);
-    const double x = out.u * intervals;
-    const auto j = std::min(static_cast<std::uint32_t>(x), intervals - 1);
-    out.sample = first + j;
-    out.f = x - j;
-    return true;
-}
-
 bool RoadProfile::obstacle(std::int32_t leg, double t) const { return sample(leg, t).obstacle; }
 
 bool RoadProfile::height(std::int32_t leg, double t, double& y) const {
@@ -144,15 +129,25 @@ bool RoadProfile::height(std::int32_t leg, double t, double& y) const {
 
 RoadProfile::Sample RoadProfile::sample(std::int32_t leg, double t) const {
     Sample out;
-    Place at;
-    if (!locate(leg, t, at)) return out;
-    out.obstacle = obstacles_[at.sample] != 0 || obstacles_[at.sample + 1] != 0;
-    const std::int16_t o0 = offsets_[at.sample], o1 = offsets_[at.sample + 1];
+    const auto n = static_cast<std::int32_t>(legs());
+    if (n == 0) return out;
+    // The point falls between samples `at` and `at` + 1 of its leg, a
+    // fraction `f` of the way.
+    const auto k = static_cast<std::size_t>(ai_detail::wrap(leg, n));
+    const std::uint32_t first = first_[k];
+    const std::uint32_t intervals = first_[k + 1] - first - 1;
+    const double u = std::clamp(t, 0.0, 1.0);
+    const double x = u * intervals;
+    const auto j = std::min(static_cast<std::uint32_t>(x), intervals - 1);
+    const std::uint32_t at = first + j;
+    const double f = x - j;
+    out.obstacle = obstacles_[at] != 0 || obstacles_[at + 1] != 0;
+    const std::int16_t o0 = offsets_[at], o1 = offsets_[at + 1];
     if (o0 == kNone || o1 == kNone) return out;
     // The route line is straight along the leg: its height and the offsets
     // interpolate alike.
-    const double y0 = gate_y_[at.leg == 0 ? legs() - 1 : at.leg - 1], y1 = gate_y_[at.leg];
-    out.y = y0 + (y1 - y0) * at.u + (o0 + (o1 - o0) * at.f) * kResolution_m;
+    const double y0 = gate_y_[k == 0 ? legs() - 1 : k - 1], y1 = gate_y_[k];
+    out.y = y0 + (y1 - y0) * u + (o0 + (o1 - o0) * f) * kResolution_m;
     out.has_height = true;
     return out;
 }

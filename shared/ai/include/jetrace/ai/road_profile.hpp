@@ -60,17 +60,6 @@ public:
     std::size_t memory_bytes() const;
 
 private:
-    // Where a point a fraction `u` (clamped t) along leg `leg` (taken
-    // modulo the gate count) falls: between samples `sample` and
-    // `sample` + 1 (indices into offsets_), a fraction `f` of the way.
-    struct Place {
-        std::size_t leg = 0;
-        std::size_t sample = 0;
-        double u = 0;
-        double f = 0;
-    };
-    bool locate(std::int32_t leg, double t, Place& out) const;
-
     static constexpr std::int16_t kNone = INT16_MIN;
     // Leg k's samples are offsets_[first_[k] .. first_[k + 1]), the first at
     // its start gate and the last at its end gate: the road's height above
