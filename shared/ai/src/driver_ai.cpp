@@ -69,9 +69,11 @@ RoutePoint route_start(const Route& r, std::int32_t next, const Vec3& p, const V
     return {a + (b - a) * t, next, t};
 }
 
-// The point `ahead` metres along the route from route_start() (unit: m).
-Vec3 route_point(const Route& r, std::int32_t next, const Vec3& p, const Vec3& up, double ahead) {
-    Vec3 from = route_start(r, next, p, up).at;
+// The point `ahead` metres along the route from `start` (route_start()'s;
+// unit: m).
+Vec3 route_point(const Route& r, const RoutePoint& start, const Vec3& up, double ahead) {
+    const std::int32_t next = start.leg;
+    Vec3 from = start.at;
     double left = ahead;
     for (std::int32_t i = 0; i < 16 && i < r.count; ++i) {
         const Vec3 leg = r.at(next + i).center - from;
@@ -83,11 +85,10 @@ Vec3 route_point(const Route& r, std::int32_t next, const Vec3& p, const Vec3& u
     return from;
 }
 
-// The points every `step` metres along the route from route_start(),
-// `count` + 1 of them (the first the start), in one walk.
-void route_points(const Route& r, std::int32_t next, const Vec3& p, const Vec3& up, double step, int count,
-                  RoutePoint* out) {
-    const RoutePoint start = route_start(r, next, p, up);
+// The points every `step` metres along the route from `start`
+// (route_start()'s), `count` + 1 of them (the first the start), in one walk.
+void route_points(const Route& r, const RoutePoint& start, const Vec3& up, double step, int count, RoutePoint* out) {
+    const std::int32_t next = start.leg;
     Vec3 from = start.at;
     double t0 = start.t;  // where `from` is along the current leg
     double at = 0.0;  // distance along the route to `from` (unit: m)
@@ -130,12 +131,13 @@ bool needs_approach(const Checkpoint& g, const Vec3& p) {
 // Where to steer: the route point ahead, moved sideways by `shift`, unless
 // the straight line to it would miss the next gate (then that gate's
 // centre, moved the same).
-Vec3 pursuit_point(const Route& r, const CarState& car, const Vec3& up, double ahead, const Vec3& shift) {
+Vec3 pursuit_point(const Route& r, const CarState& car, const RoutePoint& start, const Vec3& up, double ahead,
+                   const Vec3& shift) {
     const Checkpoint& g = r.at(car.next_checkpoint);
     const Vec3 p = car.position;
     const double to_plane = (g.center - p).dot(g.normal);
     if (needs_approach(g, p)) return g.center - g.normal * kApproach_m;
-    const Vec3 x = route_point(r, car.next_checkpoint, p, up, ahead) + shift;
+    const Vec3 x = route_point(r, start, up, ahead) + shift;
     const double along = (x - p).dot(g.normal);
     if (to_plane <= 0.0 || along <= to_plane) return x;  // the aim is before the gate
     const Vec3 cross = p + (x - p) * (to_plane / along);
@@ -205,14 +207,14 @@ constexpr int kProbes = 16;
 // road: over a crest of vertical radius R the road's push ends at
 // v = sqrt(g R cos(slope)), with R from the course's road profile along the
 // route (unit: m/s).
-double crest_limit(const Scene& sc, const RoadProfile& road, const Route& r, const CarState& car, const Vec3& up,
+double crest_limit(const Scene& sc, const RoadProfile& road, const Route& r, const RoutePoint& start, const Vec3& up,
                    double decel, double horizon, const DriverSkill& skill) {
     const int n = std::min(kProbes, static_cast<int>(horizon / kProbeStep_m) + 2);
     double h[kProbes + 1];
     double s[kProbes + 1];
     bool ok[kProbes + 1];
     RoutePoint points[kProbes + 1];
-    route_points(r, car.next_checkpoint, car.position, up, kProbeStep_m, n, points);
+    route_points(r, start, up, kProbeStep_m, n, points);
     Vec3 prev = points[0].at;
     double limit = 1e9;
     for (int k = 0; k <= n; ++k) {
@@ -298,7 +300,9 @@ Input drive(const Course& course, const WorldState& state, int slot, const Drive
     const double ahead_m = std::max(std::clamp(speed * 0.5, 10.0, skill.lookahead_m), to_gate);
     const std::int32_t next_k = ai_detail::wrap(car.next_checkpoint, route.count);
     const double cross_at = ai_detail::crossing_offset(course, state, next_k, car);
-    const Vec3 aim = pursuit_point(route, car, up, ahead_m, next.across * cross_at);
+    // Where the car joins the route, for the aim and the crests ahead.
+    const RoutePoint start = route_start(route, car.next_checkpoint, car.position, up);
+    const Vec3 aim = pursuit_point(route, car, start, up, ahead_m, next.across * cross_at);
 
     const Vec3 d = normalized_or(in_plane(aim - car.position, up), fwd);
     const double lateral = d.dot(right);
@@ -321,7 +325,7 @@ Input drive(const Course& course, const WorldState& state, int slot, const Drive
     if (!steep) {
         const double decel = sc.physics.brake_mps2 * 0.8;
         const double horizon = speed * speed / (2.0 * decel) + 2.0 * kProbeStep_m;
-        limit = std::min(limit, crest_limit(sc, course.road(), route, car, up, decel, horizon, skill));
+        limit = std::min(limit, crest_limit(sc, course.road(), route, start, up, decel, horizon, skill));
         limit = std::min(limit, aim_limit(sc, car, up, aim, d.dot(fwd) > 0.0 ? std::abs(lateral) : 1.0));
     }
     const int steer_g = within_grip(sc, steer, speed);

@@ -76,13 +76,9 @@ RoadProfile RoadProfile::build(const Track& track, const UniformGrid& grid, cons
     const auto& gates = track.checkpoints;
     const std::size_t n = gates.size();
     if (n == 0) return p;
-    p.first_.reserve(n + 1);
-    p.gate_y_.reserve(n);
+    p.legs_.reserve(n);
     double route_m = 0.0;
-    for (std::size_t k = 0; k < n; ++k) {
-        p.gate_y_.push_back(gates[k].center.y());
-        route_m += ground_length(gates[(k + n - 1) % n].center, gates[k].center);
-    }
+    for (std::size_t k = 0; k < n; ++k) route_m += ground_length(gates[(k + n - 1) % n].center, gates[k].center);
     const double spacing_m = std::max(probe.spacing_m, route_m / kMaxRouteSamples);
     for (std::size_t k = 0; k < n; ++k) {
         const Vec3 a = gates[(k + n - 1) % n].center;
@@ -90,7 +86,7 @@ RoadProfile RoadProfile::build(const Track& track, const UniformGrid& grid, cons
         // At least one interval.
         const double want = std::ceil(ground_length(a, b) / spacing_m);
         const auto intervals = static_cast<std::uint32_t>(std::clamp(want, 1.0, kMaxIntervals));
-        p.first_.push_back(static_cast<std::uint32_t>(p.offsets_.size()));
+        p.legs_.push_back({static_cast<std::uint32_t>(p.points_.size()), intervals, a.y(), b.y()});
         // The road a car drives on along the leg: from under the gate it
         // starts at (the highest road below the route line there), on over
         // the highest road at most a step above the last one, so that a
@@ -106,16 +102,15 @@ RoadProfile RoadProfile::build(const Track& track, const UniformGrid& grid, cons
             double y = 0.0;
             bool higher = false;
             const bool ok = road_height(track, grid, q.x(), q.z(), lo, hi, reach, probe.min_up, y, higher);
-            p.offsets_.push_back(ok ? static_cast<std::int16_t>(std::lround((y - q.y()) / kResolution_m)) : kNone);
             // A top more than a step above the road driven on: an obstacle
             // (a block, a deck's edge) stands there, not on the first sample
             // (under the gate, where the start has no last road).
-            p.obstacles_.push_back(j > 0 && last_ok && higher ? 1 : 0);
+            p.points_.push_back({ok ? static_cast<std::int16_t>(std::lround((y - q.y()) / kResolution_m)) : kNone,
+                                 static_cast<std::uint8_t>(j > 0 && last_ok && higher ? 1 : 0)});
             last_ok = ok;
             last_y = y;
         }
     }
-    p.first_.push_back(static_cast<std::uint32_t>(p.offsets_.size()));
     return p;
 }
 
@@ -129,32 +124,28 @@ bool RoadProfile::height(std::int32_t leg, double t, double& y) const {
 
 RoadProfile::Sample RoadProfile::sample(std::int32_t leg, double t) const {
     Sample out;
-    const auto n = static_cast<std::int32_t>(legs());
+    const auto n = static_cast<std::int32_t>(legs_.size());
     if (n == 0) return out;
     // The point falls between samples `at` and `at` + 1 of its leg, a
     // fraction `f` of the way.
-    const auto k = static_cast<std::size_t>(ai_detail::wrap(leg, n));
-    const std::uint32_t first = first_[k];
-    const std::uint32_t intervals = first_[k + 1] - first - 1;
+    const Leg& l = legs_[static_cast<std::size_t>(ai_detail::wrap(leg, n))];
     const double u = std::clamp(t, 0.0, 1.0);
-    const double x = u * intervals;
-    const auto j = std::min(static_cast<std::uint32_t>(x), intervals - 1);
-    const std::uint32_t at = first + j;
+    const double x = u * l.intervals;
+    const auto j = std::min(static_cast<std::uint32_t>(x), l.intervals - 1);
+    const Point* at = &points_[l.first + j];
     const double f = x - j;
-    out.obstacle = obstacles_[at] != 0 || obstacles_[at + 1] != 0;
-    const std::int16_t o0 = offsets_[at], o1 = offsets_[at + 1];
+    out.obstacle = at[0].obstacle != 0 || at[1].obstacle != 0;
+    const std::int16_t o0 = at[0].offset, o1 = at[1].offset;
     if (o0 == kNone || o1 == kNone) return out;
     // The route line is straight along the leg: its height and the offsets
     // interpolate alike.
-    const double y0 = gate_y_[k == 0 ? legs() - 1 : k - 1], y1 = gate_y_[k];
-    out.y = y0 + (y1 - y0) * u + (o0 + (o1 - o0) * f) * kResolution_m;
+    out.y = l.y0 + (l.y1 - l.y0) * u + (o0 + (o1 - o0) * f) * kResolution_m;
     out.has_height = true;
     return out;
 }
 
 std::size_t RoadProfile::memory_bytes() const {
-    return first_.capacity() * sizeof(std::uint32_t) + gate_y_.capacity() * sizeof(double) +
-           offsets_.capacity() * sizeof(std::int16_t) + obstacles_.capacity();
+    return legs_.capacity() * sizeof(Leg) + points_.capacity() * sizeof(Point);
 }
 
 }  // namespace jetrace

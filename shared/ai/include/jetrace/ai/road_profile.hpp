@@ -48,28 +48,39 @@ public:
     /// a car drives on there, in either of the two samples around it.
     bool obstacle(std::int32_t leg, double t) const;
 
-    /// height() and obstacle() at one point, located once.
+    /// height() and obstacle() at one point, located once (16 bytes: a
+    /// call returns it in two registers).
     struct Sample {
-        bool has_height = false;
         double y = 0;  // valid if has_height (unit: m)
+        bool has_height = false;
         bool obstacle = false;
     };
     Sample sample(std::int32_t leg, double t) const;
 
-    std::size_t legs() const { return gate_y_.size(); }
+    std::size_t legs() const { return legs_.size(); }
     std::size_t memory_bytes() const;
 
 private:
     static constexpr std::int16_t kNone = INT16_MIN;
-    // Leg k's samples are offsets_[first_[k] .. first_[k + 1]), the first at
-    // its start gate and the last at its end gate: the road's height above
-    // the route line (from gate_y_[k - 1] to gate_y_[k]) in kResolution_m,
-    // kNone where there is no road.
-    std::vector<std::uint32_t> first_;
-    std::vector<double> gate_y_;
-    std::vector<std::int16_t> offsets_;
-    // Per sample, 1 where an obstacle stands (obstacle()).
-    std::vector<std::uint8_t> obstacles_;
+    // One sample: the road's height above the route line in kResolution_m
+    // (kNone where there is no road), and 1 where an obstacle stands
+    // (obstacle()).
+    struct Point {
+        std::int16_t offset = kNone;
+        std::uint8_t obstacle = 0;
+    };
+    // Leg k (all a sample() reads of it, together): its samples are
+    // points_[first .. first + intervals], the first at its start gate and
+    // the last at its end gate; the route line runs from height y0 (gate
+    // k - 1's centre) to y1 (gate k's).
+    struct Leg {
+        std::uint32_t first = 0;
+        std::uint32_t intervals = 1;
+        double y0 = 0;
+        double y1 = 0;
+    };
+    std::vector<Leg> legs_;
+    std::vector<Point> points_;
 };
 
 }  // namespace jetrace

@@ -95,10 +95,7 @@ void align_to_contacts(const PhysicsSettings& s, const Contacts& contacts, CarSt
 
 /// Rounds position and velocity to the wire resolution.
 void quantize_motion(CarState& car);
-inline void quantize_motion(Vec3& position, Vec3& velocity) {
-    quantize(position, kPosBits);
-    quantize(velocity, kVelBits);
-}
+inline void quantize_motion(Vec3& position, Vec3& velocity) { quantize(position, kPosBits, velocity, kVelBits); }
 /// Rounds the orientation to the wire resolution (w >= 0 representative).
 void quantize_orientation(CarState& car);
 /// Both.
