@@ -171,8 +171,8 @@ void quantize_orientation(CarState& car) {
     // unit; the next step normalises it): quantise it as it is.
     Quat q = car.orientation;
     if (q.w() < 0.0) q.coeffs() = -q.coeffs();  // one representative: w >= 0
-    car.orientation = Quat(quantize(q.w(), kQuatBits), quantize(q.x(), kQuatBits), quantize(q.y(), kQuatBits),
-                           quantize(q.z(), kQuatBits));
+    quantize(q, kQuatBits);
+    car.orientation = q;
 }
 
 }  // namespace jetrace

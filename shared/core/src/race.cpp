@@ -87,17 +87,19 @@ int collide_cars(double radius_m, std::vector<CarState>& cars) {
     if (cars.size() < 2) return pairs;
     const double min_dist = 2.0 * radius_m;
     const double min2 = min_dist * min_dist;
-    for (std::size_t i = 0; i < cars.size(); ++i) {
-        if (!cars[i].active) continue;
-        for (std::size_t j = i + 1; j < cars.size(); ++j) {
-            if (!cars[j].active) continue;
-            CarState& a = cars[i];
-            CarState& b = cars[j];
+    const std::size_t count = cars.size();
+    CarState* const car = cars.data();
+    for (std::size_t i = 0; i < count; ++i) {
+        CarState& a = car[i];
+        if (!a.active) continue;
+        double ax = a.position.x();  // kept in a register while no pair moves `a`
+        for (std::size_t j = i + 1; j < count; ++j) {
+            CarState& b = car[j];
             // Apart along x alone: d2 below sums dx * dx with other squares,
             // never less (rounding is monotonic), so it would fail the test
             // below too. Most pairs are; this spares them the rest.
-            const double dx = b.position.x() - a.position.x();
-            if (dx * dx >= min2) continue;
+            const double dx = b.position.x() - ax;
+            if (dx * dx >= min2 || !b.active) continue;
             const Vec3 d = b.position - a.position;
             const double d2 = d.squaredNorm();
             if (!(d2 < min2)) continue;
@@ -112,6 +114,7 @@ int collide_cars(double radius_m, std::vector<CarState>& cars) {
                 a.velocity += n * (0.5 * closing);
                 b.velocity -= n * (0.5 * closing);
             }
+            ax = a.position.x();
         }
     }
     return pairs;

@@ -160,9 +160,76 @@ void drive_phase(const Scene& sc, WorldState& st, std::span<const Input> inputs,
     }
 }
 
-// Phase 3: push each car out of the track. `bumped`: the car collisions
-// changed some car.
-void resolve_phase(const Scene& sc, WorldState& st, StepScratch& scr, bool bumped) {
+// Phase 3 for car i: push it out of the track. `bumped`: the car
+// collisions changed some car.
+void resolve_car(const Scene& sc, CarState& car, CarScratch& cs, StepScratch& scr, bool bumped) {
+    if (cs.asleep) {
+        // Untouched by the car collisions: its step ends where the last did.
+        if (!bumped || same_motion(car, cs.rest_mid)) {
+            if (cs.rest_moves) set_motion(car, cs.rest);
+            return;
+        }
+        // Pushed by a car: the whole step from here, from the gather on.
+        cs.asleep = false;
+        gather_for_step(sc, cs.rest.position, cs.rest.velocity, cs);
+    }
+    // Rounded to the wire resolution before the push-out, which then
+    // checks the car where the step leaves it (resolve() rounds again
+    // after any push).
+    if (sc.physics.quantize_state) quantize_motion(car);
+    // Exact shortcut: the resolver already found this very position
+    // clear of every triangle, and only the position decides that (if
+    // the step's motion needs no sweep, which also depends on where the
+    // car came from).
+    if (cs.clear_valid && same(cs.clear_at, car.position) &&
+        !needs_sweep(sc.physics, cs.previous_position, car.position)) {
+        return;
+    }
+    const ResolveStats r = resolve(sc.query(), {cs.previous_position, car.position, car.velocity}, cs.candidates,
+                                   cs.contacts, cs.pushed_last);
+    cs.pushed_last = r.pushes > 0;
+    // The pass that found the car clear found its contacts there too.
+    cs.contacts_valid = r.found_contacts;
+    cs.contacts_at = car.position;
+    scr.pushes += r.pushes;
+    scr.max_passes = std::max(scr.max_passes, r.passes);
+    scr.capped += r.capped ? 1 : 0;
+    // Fewer pushing passes than allowed: the last pass found nothing touching.
+    cs.clear_valid = r.passes < sc.physics.resolver_passes;
+    cs.clear_at = car.position;
+}
+
+// Phase 4 for car i: gates, laps, respawn; find the contacts where the car
+// now is (unless the push-out found them there) and align it to them;
+// quantise orientation. Position and velocity are already quantised (phase
+// 3, and a respawn places the car quantised).
+void rules_car(const Scene& sc, const WorldState& st, CarState& car, CarScratch& cs) {
+    const PhysicsSettings& ps = sc.physics;
+    const std::uint32_t respawns = car.respawns;
+    const bool racing = st.tick >= st.start_tick;
+    if (cs.asleep) {
+        // Parked: where the step began (its motion `rest`), and asking
+        // for the gate distance of the same place tick after tick.
+        assert(same_bits(car.position, cs.previous_position));
+        apply_race_rules_still(sc.track, ps, st.laps, st.tick, racing, car, cs.gate_distance);
+    } else {
+        apply_race_rules(sc.track, ps, st.laps, st.tick, racing, cs.previous_position, car);
+    }
+    // Asleep (its motion `rest` again) and not respawned (the only way
+    // the rules move a car): the alignment and rounding are the last step's.
+    if (cs.asleep && car.respawns == respawns) return;
+    ensure_contacts(sc, cs, car.position);
+    align_to_contacts(ps, cs.contacts, car);
+    if (ps.quantize_state) quantize_orientation_cached(cs, car);
+    // A step that left a car at rest exactly as it found it.
+    cs.rest_valid = cs.candidate && same_motion(car, cs.rest);
+    if (cs.rest_valid) cs.rest_moves = !same_motion(car, cs.rest_mid);
+    cs.candidate = false;
+}
+
+// Phases 3 and 4, car after car: each car's push-out and rules read and
+// change that car alone, so one pass over the cars does both.
+void resolve_and_rules_phase(const Scene& sc, WorldState& st, StepScratch& scr, bool bumped) {
     scr.pushes = 0;
     scr.max_passes = 0;
     scr.capped = 0;
@@ -170,73 +237,8 @@ void resolve_phase(const Scene& sc, WorldState& st, StepScratch& scr, bool bumpe
         CarState& car = st.cars[i];
         if (!car.active) continue;
         CarScratch& cs = scr.cars[i];
-        if (cs.asleep) {
-            // Untouched by the car collisions: its step ends where the last did.
-            if (!bumped || same_motion(car, cs.rest_mid)) {
-                if (cs.rest_moves) set_motion(car, cs.rest);
-                continue;
-            }
-            // Pushed by a car: the whole step from here, from the gather on.
-            cs.asleep = false;
-            gather_for_step(sc, cs.rest.position, cs.rest.velocity, cs);
-        }
-        // Rounded to the wire resolution before the push-out, which then
-        // checks the car where the step leaves it (resolve() rounds again
-        // after any push).
-        if (sc.physics.quantize_state) quantize_motion(car);
-        // Exact shortcut: the resolver already found this very position
-        // clear of every triangle, and only the position decides that (if
-        // the step's motion needs no sweep, which also depends on where the
-        // car came from).
-        if (cs.clear_valid && same(cs.clear_at, car.position) &&
-            !needs_sweep(sc.physics, cs.previous_position, car.position)) {
-            continue;
-        }
-        const ResolveStats r = resolve(sc.query(), {cs.previous_position, car.position, car.velocity}, cs.candidates,
-                                       cs.contacts, cs.pushed_last);
-        cs.pushed_last = r.pushes > 0;
-        // The pass that found the car clear found its contacts there too.
-        cs.contacts_valid = r.found_contacts;
-        cs.contacts_at = car.position;
-        scr.pushes += r.pushes;
-        scr.max_passes = std::max(scr.max_passes, r.passes);
-        scr.capped += r.capped ? 1 : 0;
-        // Fewer pushing passes than allowed: the last pass found nothing touching.
-        cs.clear_valid = r.passes < sc.physics.resolver_passes;
-        cs.clear_at = car.position;
-    }
-}
-
-// Phase 4: gates, laps, respawn; find the contacts where the car now is
-// (unless the push-out found them there) and align it to them; quantise
-// orientation. Position and velocity are already quantised (phase 3, and a
-// respawn places the car quantised).
-void rules_phase(const Scene& sc, WorldState& st, StepScratch& scr) {
-    const PhysicsSettings& ps = sc.physics;
-    for (std::size_t i = 0; i < st.cars.size(); ++i) {
-        CarState& car = st.cars[i];
-        if (!car.active) continue;
-        CarScratch& cs = scr.cars[i];
-        const std::uint32_t respawns = car.respawns;
-        const bool racing = st.tick >= st.start_tick;
-        if (cs.asleep) {
-            // Parked: where the step began (its motion `rest`), and asking
-            // for the gate distance of the same place tick after tick.
-            assert(same_bits(car.position, cs.previous_position));
-            apply_race_rules_still(sc.track, ps, st.laps, st.tick, racing, car, cs.gate_distance);
-        } else {
-            apply_race_rules(sc.track, ps, st.laps, st.tick, racing, cs.previous_position, car);
-        }
-        // Asleep (its motion `rest` again) and not respawned (the only way
-        // the rules move a car): the alignment and rounding are the last step's.
-        if (cs.asleep && car.respawns == respawns) continue;
-        ensure_contacts(sc, cs, car.position);
-        align_to_contacts(ps, cs.contacts, car);
-        if (ps.quantize_state) quantize_orientation_cached(cs, car);
-        // A step that left a car at rest exactly as it found it.
-        cs.rest_valid = cs.candidate && same_motion(car, cs.rest);
-        if (cs.rest_valid) cs.rest_moves = !same_motion(car, cs.rest_mid);
-        cs.candidate = false;
+        resolve_car(sc, car, cs, scr, bumped);
+        rules_car(sc, st, car, cs);
     }
 }
 
@@ -246,8 +248,7 @@ void step(const Scene& scene, WorldState& state, std::span<const Input> inputs, 
     ensure_scratch(state.cars.size(), scratch);
     drive_phase(scene, state, inputs, scratch);
     const bool bumped = collide_cars(scene.physics.car_radius_m, state.cars) > 0;  // phase 2
-    resolve_phase(scene, state, scratch, bumped);
-    rules_phase(scene, state, scratch);
+    resolve_and_rules_phase(scene, state, scratch, bumped);  // phases 3 and 4
     ++state.tick;
 }
 

@@ -70,39 +70,71 @@ inline void quantize(Vec3& v, int bits) {
     for (int i = 0; i < 3; ++i) v[i] = quantize(v[i], bits);
 }
 
+namespace quantize_detail {
+// Two lanes of doubles, and of their bits (GCC and Clang vector extensions:
+// SSE2 on x86-64, NEON on aarch64, scalar code where a target has no vectors).
+using D2 = double __attribute__((vector_size(16)));
+using I2 = std::int64_t __attribute__((vector_size(16)));
+// All lanes -1 where |y| is below 2^51 (quantize()'s fast path), else 0 (NaN included).
+inline I2 in_range(D2 y) {
+    const I2 magnitude{0x7fffffffffffffff, 0x7fffffffffffffff};
+    const D2 limit{2251799813685248.0, 2251799813685248.0};
+    return reinterpret_cast<D2>(reinterpret_cast<I2>(y) & magnitude) < limit;
+}
+// quantize()'s rounding of y (scaled, in range), times `inv`.
+inline D2 rounded(D2 y, D2 inv) {
+    const D2 magic{6755399441055744.0, 6755399441055744.0};
+    return ((y + magic) - magic) * inv;
+}
+}  // namespace quantize_detail
+
 /// quantize(a, bits_a) and quantize(b, bits_b) together, two coordinates
-/// at a time in 2-lane vectors (GCC and Clang vector extensions: SSE2 on
-/// x86-64, NEON on aarch64, scalar code where a target has no vectors).
-/// Lane by lane these are quantize()'s operations (a multiplication by a
-/// power of two, the add and subtract of 1.5 * 2^52, a multiplication),
-/// each correctly rounded by IEEE 754 in a vector lane as in a scalar
-/// register, so the bits are quantize()'s; a coordinate outside the magic
-/// number's range (or NaN) sends all six through quantize() itself.
+/// at a time in 2-lane vectors. Lane by lane these are quantize()'s
+/// operations (a multiplication by a power of two, the add and subtract of
+/// 1.5 * 2^52, a multiplication), each correctly rounded by IEEE 754 in a
+/// vector lane as in a scalar register, so the bits are quantize()'s; a
+/// coordinate outside the magic number's range (or NaN) sends all six
+/// through quantize() itself.
 inline void quantize(Vec3& a, int bits_a, Vec3& b, int bits_b) {
-    using D2 = double __attribute__((vector_size(16)));
-    using I2 = std::int64_t __attribute__((vector_size(16)));
+    using quantize_detail::D2;
+    using quantize_detail::I2;
     const double sa = static_cast<double>(std::uint64_t{1} << bits_a);
     const double sb = static_cast<double>(std::uint64_t{1} << bits_b);
     const D2 y0 = D2{a.x(), a.y()} * D2{sa, sa};
     const D2 y1 = D2{a.z(), b.x()} * D2{sa, sb};
     const D2 y2 = D2{b.y(), b.z()} * D2{sb, sb};
-    const I2 magnitude{0x7fffffffffffffff, 0x7fffffffffffffff};
-    const D2 limit{2251799813685248.0, 2251799813685248.0};
-    const I2 fits = (reinterpret_cast<D2>(reinterpret_cast<I2>(y0) & magnitude) < limit) &
-                    (reinterpret_cast<D2>(reinterpret_cast<I2>(y1) & magnitude) < limit) &
-                    (reinterpret_cast<D2>(reinterpret_cast<I2>(y2) & magnitude) < limit);
+    const I2 fits = quantize_detail::in_range(y0) & quantize_detail::in_range(y1) & quantize_detail::in_range(y2);
     if (!(fits[0] != 0 && fits[1] != 0)) {
         quantize(a, bits_a);
         quantize(b, bits_b);
         return;
     }
-    const D2 magic{6755399441055744.0, 6755399441055744.0};
     const double ia = 1.0 / sa, ib = 1.0 / sb;
-    const D2 r0 = ((y0 + magic) - magic) * D2{ia, ia};
-    const D2 r1 = ((y1 + magic) - magic) * D2{ia, ib};
-    const D2 r2 = ((y2 + magic) - magic) * D2{ib, ib};
+    const D2 r0 = quantize_detail::rounded(y0, D2{ia, ia});
+    const D2 r1 = quantize_detail::rounded(y1, D2{ia, ib});
+    const D2 r2 = quantize_detail::rounded(y2, D2{ib, ib});
     a = Vec3(r0[0], r0[1], r1[0]);
     b = Vec3(r1[1], r2[0], r2[1]);
+}
+
+/// Each of q's four coefficients rounded to a multiple of 2^-bits, two at a
+/// time as above (the same bits as quantize() on each).
+inline void quantize(Quat& q, int bits) {
+    using quantize_detail::D2;
+    using quantize_detail::I2;
+    const double scale = static_cast<double>(std::uint64_t{1} << bits);
+    const D2 s{scale, scale};
+    const D2 y0 = D2{q.x(), q.y()} * s;
+    const D2 y1 = D2{q.z(), q.w()} * s;
+    const I2 fits = quantize_detail::in_range(y0) & quantize_detail::in_range(y1);
+    if (!(fits[0] != 0 && fits[1] != 0)) {
+        q = Quat(quantize(q.w(), bits), quantize(q.x(), bits), quantize(q.y(), bits), quantize(q.z(), bits));
+        return;
+    }
+    const double inv = 1.0 / scale;
+    const D2 r0 = quantize_detail::rounded(y0, D2{inv, inv});
+    const D2 r1 = quantize_detail::rounded(y1, D2{inv, inv});
+    q = Quat(r1[1], r0[0], r0[1], r1[0]);  // (w, x, y, z)
 }
 
 /// q / |q| for a quaternion already within about 1e-3 of unit length (such
