@@ -166,7 +166,8 @@ double corner_radius(const Route& r, std::int32_t i, const Vec3& up) {
 constexpr double kYawMargin = 0.8;
 
 // Highest speed at which the car can still slow down for every corner
-// within its braking distance (unit: m/s).
+// within its braking distance (unit: m/s); or, once the car is 3 % over
+// the corners' so far, theirs (drive() brakes hard either way).
 double speed_limit(const Scene& sc, const Route& r, const CarState& car, const Vec3& up, const DriverSkill& skill,
                    bool finishing) {
     const double decel = sc.physics.brake_mps2 * 0.8;
@@ -189,6 +190,9 @@ double speed_limit(const Scene& sc, const Route& r, const CarState& car, const V
         // arrive slowly, or the car flies far above it.
         if (r.at(i).normal.y() > 0.5) corner_speed = std::min(corner_speed, skill.climb_top_mps);
         limit = std::min(limit, std::sqrt(corner_speed * corner_speed + 2.0 * decel * dist));
+        // Over it by 3 % already: the car brakes whatever the corners
+        // farther on say (they could only lower the limit).
+        if (speed > limit * 1.03) break;
         dist += in_plane(r.at(i + 1).center - r.at(i).center, up).norm();
     }
     return limit;
@@ -320,20 +324,26 @@ Input drive(const Course& course, const WorldState& state, int slot, const Drive
     // rolling backwards is stopped by thrust and brake below).
     if (!on_track(sc, car, stepped)) return Input::clamped(0, steer, 0);
 
-    const bool finishing = next_k == 0 && car.lap >= state.laps;
-    double limit = speed_limit(sc, route, car, up, skill, finishing);
-    if (!steep) {
-        const double decel = sc.physics.brake_mps2 * 0.8;
-        const double horizon = speed * speed / (2.0 * decel) + 2.0 * kProbeStep_m;
-        limit = std::min(limit, crest_limit(sc, course.road(), route, start, up, decel, horizon, skill));
-        limit = std::min(limit, aim_limit(sc, car, up, aim, d.dot(fwd) > 0.0 ? std::abs(lateral) : 1.0));
-    }
     const int steer_g = within_grip(sc, steer, speed);
-    int throttle = Input::kMaxThrottle;
-    int brake = 0;
     // Rolling backwards (off a ramp's top, back from a wall it could not
     // climb): thrust and brake both stop that, whatever the speed.
     if (car.velocity.dot(fwd) < -kRollingBack_mps) return Input::clamped(Input::kMaxThrottle, steer_g, 1);
+    const bool finishing = next_k == 0 && car.lap >= state.laps;
+    // The speed limit: the least of the corners', the aim's and the crests'
+    // (none is NaN, so the order they are taken in changes nothing). The
+    // crests can only lower it: a car already over it by 3 % brakes
+    // whatever they say, and is spared reading them.
+    double limit = speed_limit(sc, route, car, up, skill, finishing);
+    if (!steep) {
+        limit = std::min(limit, aim_limit(sc, car, up, aim, d.dot(fwd) > 0.0 ? std::abs(lateral) : 1.0));
+        if (!(speed > limit * 1.03)) {
+            const double decel = sc.physics.brake_mps2 * 0.8;
+            const double horizon = speed * speed / (2.0 * decel) + 2.0 * kProbeStep_m;
+            limit = std::min(limit, crest_limit(sc, course.road(), route, start, up, decel, horizon, skill));
+        }
+    }
+    int throttle = Input::kMaxThrottle;
+    int brake = 0;
     if (speed > limit) {
         throttle = 0;
         brake = speed > limit * 1.03 ? 1 : 0;
