@@ -112,6 +112,11 @@ void route_points(const Route& r, const RoutePoint& start, const Vec3& up, doubl
 // Backwards speed along the nose past which the car is rolling back (unit: m/s).
 constexpr double kRollingBack_mps = 1.0;
 
+// Over its speed limit by this factor, the car brakes (below it, it only
+// lifts off the throttle). Each term of the limit can only lower it, so a
+// car already past it brakes whatever the terms not yet taken say.
+constexpr double kBrakeOver = 1.03;
+
 // Distance before a gate of the point a car lines up at when it cannot
 // drive through the gate from where it is (unit: m).
 constexpr double kApproach_m = 15.0;
@@ -165,13 +170,13 @@ double corner_radius(const Route& r, std::int32_t i, const Vec3& up) {
 // Fraction of the full-lock yaw rate the AI plans its turns for.
 constexpr double kYawMargin = 0.8;
 
-// Highest speed at which the car can still slow down for every corner
-// within its braking distance (unit: m/s); or, once the car is 3 % over
-// the corners' so far, theirs (drive() brakes hard either way).
-double speed_limit(const Scene& sc, const Route& r, const CarState& car, const Vec3& up, const DriverSkill& skill,
-                   bool finishing) {
+// Highest speed at which the car, at `speed` along the surface, can still
+// slow down for every corner within its braking distance (unit: m/s); or,
+// once `speed` is kBrakeOver past the corners' so far, theirs (drive()
+// brakes either way).
+double speed_limit(const Scene& sc, const Route& r, const CarState& car, const Vec3& up, double speed,
+                   const DriverSkill& skill, bool finishing) {
     const double decel = sc.physics.brake_mps2 * 0.8;
-    const double speed = in_plane(car.velocity, up).norm();
     const double horizon = speed * speed / (2.0 * decel) + 60.0;
     double limit = 1e9;
     double dist = in_plane(r.at(car.next_checkpoint).center - car.position, up).norm();
@@ -190,9 +195,8 @@ double speed_limit(const Scene& sc, const Route& r, const CarState& car, const V
         // arrive slowly, or the car flies far above it.
         if (r.at(i).normal.y() > 0.5) corner_speed = std::min(corner_speed, skill.climb_top_mps);
         limit = std::min(limit, std::sqrt(corner_speed * corner_speed + 2.0 * decel * dist));
-        // Over it by 3 % already: the car brakes whatever the corners
-        // farther on say (they could only lower the limit).
-        if (speed > limit * 1.03) break;
+        // Past it already: the car brakes whatever the corners farther on say.
+        if (speed > limit * kBrakeOver) break;
         dist += in_plane(r.at(i + 1).center - r.at(i).center, up).norm();
     }
     return limit;
@@ -330,13 +334,13 @@ Input drive(const Course& course, const WorldState& state, int slot, const Drive
     if (car.velocity.dot(fwd) < -kRollingBack_mps) return Input::clamped(Input::kMaxThrottle, steer_g, 1);
     const bool finishing = next_k == 0 && car.lap >= state.laps;
     // The speed limit: the least of the corners', the aim's and the crests'
-    // (none is NaN, so the order they are taken in changes nothing). The
-    // crests can only lower it: a car already over it by 3 % brakes
-    // whatever they say, and is spared reading them.
-    double limit = speed_limit(sc, route, car, up, skill, finishing);
+    // (none is NaN, so the order they are taken in changes nothing). A car
+    // already kBrakeOver past it brakes whatever the crests say, and is
+    // spared reading them.
+    double limit = speed_limit(sc, route, car, up, speed, skill, finishing);
     if (!steep) {
         limit = std::min(limit, aim_limit(sc, car, up, aim, d.dot(fwd) > 0.0 ? std::abs(lateral) : 1.0));
-        if (!(speed > limit * 1.03)) {
+        if (!(speed > limit * kBrakeOver)) {
             const double decel = sc.physics.brake_mps2 * 0.8;
             const double horizon = speed * speed / (2.0 * decel) + 2.0 * kProbeStep_m;
             limit = std::min(limit, crest_limit(sc, course.road(), route, start, up, decel, horizon, skill));
@@ -346,7 +350,7 @@ Input drive(const Course& course, const WorldState& state, int slot, const Drive
     int brake = 0;
     if (speed > limit) {
         throttle = 0;
-        brake = speed > limit * 1.03 ? 1 : 0;
+        brake = speed > limit * kBrakeOver ? 1 : 0;
     }
     // Sliding sideways: ease off so the grip comes back.
     if (std::abs(car.velocity.dot(right)) > 8.0) throttle = std::min(throttle, Input::kMaxThrottle / 2);

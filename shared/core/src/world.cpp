@@ -160,7 +160,7 @@ void drive_phase(const Scene& sc, WorldState& st, std::span<const Input> inputs,
     }
 }
 
-// Phase 3 for car i: push it out of the track. `bumped`: the car
+// Phase 3 for one car: push it out of the track. `bumped`: the car
 // collisions changed some car.
 void resolve_car(const Scene& sc, CarState& car, CarScratch& cs, StepScratch& scr, bool bumped) {
     if (cs.asleep) {
@@ -199,7 +199,7 @@ void resolve_car(const Scene& sc, CarState& car, CarScratch& cs, StepScratch& sc
     cs.clear_at = car.position;
 }
 
-// Phase 4 for car i: gates, laps, respawn; find the contacts where the car
+// Phase 4 for one car: gates, laps, respawn; find the contacts where the car
 // now is (unless the push-out found them there) and align it to them;
 // quantise orientation. Position and velocity are already quantised (phase
 // 3, and a respawn places the car quantised).

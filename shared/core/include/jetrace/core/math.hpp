@@ -49,19 +49,25 @@ Quat nlerp_from_identity(const Quat& q, double t);
 /// `v / |v|`, or `fallback` when |v| is below `min_len`.
 Vec3 normalized_or(const Vec3& v, const Vec3& fallback, double min_len = 1e-12);
 
+namespace quantize_detail {
+// Round to nearest, ties to even, without a libm call: adding and
+// subtracting kMagic (1.5 * 2^52) leaves no fraction bits, exactly for
+// magnitudes below kFastLimit (2^51); without fast-math the compiler may
+// not fold the pair away.
+inline constexpr double kMagic = 6755399441055744.0;
+inline constexpr double kFastLimit = 2251799813685248.0;
+}  // namespace quantize_detail
+
 /// Rounds x to the nearest multiple of 2^-bits (ties to even). Exact and
 /// deterministic: scaling by a power of two never rounds.
 inline double quantize(double x, int bits) {
+    using quantize_detail::kMagic;
     const double scale = static_cast<double>(std::uint64_t{1} << bits);  // exact power of two
     // Multiplying by 2^-bits gives the same correctly rounded value as
     // dividing by 2^bits (both round the same exact quotient), only cheaper.
     const double inv_scale = 1.0 / scale;
     const double y = x * scale;
-    // Round to nearest, ties to even, without a libm call: adding and
-    // subtracting 1.5 * 2^52 leaves no fraction bits (exact for |y| < 2^51;
-    // without fast-math the compiler may not fold the pair away).
-    constexpr double kMagic = 6755399441055744.0;
-    if (std::fabs(y) < 2251799813685248.0) return ((y + kMagic) - kMagic) * inv_scale;
+    if (std::fabs(y) < quantize_detail::kFastLimit) return ((y + kMagic) - kMagic) * inv_scale;
     return std::nearbyint(y) * inv_scale;
 }
 
@@ -75,15 +81,15 @@ namespace quantize_detail {
 // SSE2 on x86-64, NEON on aarch64, scalar code where a target has no vectors).
 using D2 = double __attribute__((vector_size(16)));
 using I2 = std::int64_t __attribute__((vector_size(16)));
-// All lanes -1 where |y| is below 2^51 (quantize()'s fast path), else 0 (NaN included).
+// All lanes -1 where |y| is below kFastLimit (quantize()'s fast path), else 0 (NaN included).
 inline I2 in_range(D2 y) {
     const I2 magnitude{0x7fffffffffffffff, 0x7fffffffffffffff};
-    const D2 limit{2251799813685248.0, 2251799813685248.0};
+    const D2 limit{kFastLimit, kFastLimit};
     return reinterpret_cast<D2>(reinterpret_cast<I2>(y) & magnitude) < limit;
 }
 // quantize()'s rounding of y (scaled, in range), times `inv`.
 inline D2 rounded(D2 y, D2 inv) {
-    const D2 magic{6755399441055744.0, 6755399441055744.0};
+    const D2 magic{kMagic, kMagic};
     return ((y + magic) - magic) * inv;
 }
 }  // namespace quantize_detail
