@@ -145,11 +145,14 @@ struct Candidates {
     }
 
     /// True if a sphere of `radius_m` at `p` is inside the gathered region.
+    /// All six comparisons are made (no branch on each: a step asks
+    /// several times, and the answer is almost always yes).
     bool covers(const Vec3& p, double radius_m) const {
         if (all) return true;
-        return p.x() - radius_m >= region.min.x() && p.x() + radius_m <= region.max.x() &&
-               p.y() - radius_m >= region.min.y() && p.y() + radius_m <= region.max.y() &&
-               p.z() - radius_m >= region.min.z() && p.z() + radius_m <= region.max.z();
+        const bool x = (p.x() - radius_m >= region.min.x()) & (p.x() + radius_m <= region.max.x());
+        const bool y = (p.y() - radius_m >= region.min.y()) & (p.y() + radius_m <= region.max.y());
+        const bool z = (p.z() - radius_m >= region.min.z()) & (p.z() + radius_m <= region.max.z());
+        return x & y & z;
     }
     /// False if the k-th candidate's box is farther than `reach_m` from `p`
     /// (the distance from `p` to the box, a lower bound of the distance to
