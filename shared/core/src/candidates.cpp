@@ -1,22 +1,45 @@
 #include "jetrace/core/candidates.hpp"
 
+#include <array>
 #include <bit>
 #include <cassert>
+#include <cstring>
 
 namespace jetrace {
 
 namespace {
 
-// Stores the places of run `r` (its first place `first`) whose bits are set
-// in `box_mask` at out[count], out[count + 1], ...; the new count. Every
-// place is stored, the end moved past those within reach (which of a run's
-// are is not predictable: no branch on it).
-inline std::size_t store_run(std::uint32_t first, std::uint32_t box_mask, std::uint32_t* out, std::size_t count) {
-    for (std::uint32_t i = 0; i < Candidates::kRunLength; ++i) {
-        out[count] = first + i;
-        count += (box_mask >> i) & 1u;
+// For each 8-bit mask: the places of its set bits, lowest first (the rest
+// zero), and how many there are.
+struct RunPlaces {
+    std::array<std::array<std::uint32_t, Candidates::kRunLength>, 256> places{};
+    std::array<std::uint8_t, 256> count{};
+    constexpr RunPlaces() {
+        for (std::uint32_t mask = 0; mask < 256; ++mask) {
+            std::uint8_t c = 0;
+            for (std::uint32_t i = 0; i < Candidates::kRunLength; ++i) {
+                if ((mask >> i) & 1u) places[mask][c++] = i;
+            }
+            count[mask] = c;
+        }
     }
-    return count;
+};
+constexpr RunPlaces kRunPlaces;
+
+using Found8 = std::uint32_t __attribute__((vector_size(32)));
+
+// Stores the places of run `r` (its first place `first`) whose bits are set
+// in `box_mask` at out[count], out[count + 1], ...; the new count. A whole
+// run of eight is written (out has room for it), the end moved past those
+// within reach: no branch on which of a run's boxes are.
+inline std::size_t store_run(std::uint32_t first, std::uint32_t box_mask, std::uint32_t* out, std::size_t count) {
+    static_assert(Candidates::kRunLength == 8);
+    assert(box_mask < 256);
+    Found8 found;
+    std::memcpy(&found, kRunPlaces.places[box_mask].data(), sizeof found);
+    found += first;
+    std::memcpy(out + count, &found, sizeof found);
+    return count + kRunPlaces.count[box_mask];
 }
 
 }  // namespace
