@@ -19,7 +19,7 @@ Input Pilot::next(const Course& course, const WorldState& state, int slot, const
         rate_hz_ = rate_hz;
         every_ = think_ticks(rate_hz);
     }
-    if (clock_.due(state.tick, slot, every_, follows)) {
+    if (!follows || thinks_on(state.tick, slot, every_)) {
         const CarScratch* kept = stepped != nullptr && i < stepped->cars.size() ? &stepped->cars[i] : nullptr;
         held_ = drive(course, state, slot, skill_, kept);
         holding_ = true;

@@ -24,33 +24,6 @@ inline bool thinks_on(std::uint32_t tick, int slot, std::uint32_t every) {
     return (tick + static_cast<std::uint32_t>(slot)) % every == 0;
 }
 
-/// When one car's AI decides: on every tick that does not follow the last
-/// one it was asked about (`follows` false), else on thinks_on(tick, slot,
-/// every). While ticks follow one another for the same slot and `every`, a
-/// countdown answers, without thinks_on()'s division; a change of slot or
-/// `every`, a jump, and the tick where tick + slot wraps round to 0 go back
-/// to thinks_on().
-class ThinkClock {
-public:
-    bool due(std::uint32_t tick, int slot, std::uint32_t every, bool follows) {
-        const std::uint32_t sum = tick + static_cast<std::uint32_t>(slot);
-        if (follows && slot == slot_ && every == every_ && sum != 0) {
-            if (--until_ != 0) return false;
-            until_ = every;
-            return true;
-        }
-        slot_ = slot;
-        every_ = every;
-        until_ = every - sum % every;  // ticks from this one to its next own tick
-        return !follows || thinks_on(tick, slot, every);
-    }
-
-private:
-    int slot_ = -1;
-    std::uint32_t every_ = 0;
-    std::uint32_t until_ = 1;  // 1 to every_
-};
-
 /// One car's AI: its skill, the course of whichever scene it races on, and
 /// the input it holds between decisions. A function object for
 /// client::InputSource (pass it by reference: a copy holds its own input).
@@ -79,7 +52,6 @@ private:
     // think_ticks() of the tick rate last raced at (kept: it rounds).
     int rate_hz_ = 0;
     std::uint32_t every_ = 1;
-    ThinkClock clock_;
     std::uint32_t last_tick_ = 0;
     std::uint32_t respawns_ = 0;
 };
