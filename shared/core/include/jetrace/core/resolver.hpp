@@ -38,11 +38,10 @@ struct SphereMotion {
 inline constexpr double kGatherMargin_m = 0.5;
 /// Steps of travel at the car's current speed that a gather looks ahead
 /// (unit: steps); see Candidates::lookahead. Other values are compared in
-/// docs/PERFORMANCE.md ("The gather's look-ahead").
-inline constexpr double kGatherLookahead_steps = 24.0;
-/// Longest look-ahead (unit: m), so that a car far above the usual speeds
-/// (the top speed, 365 m/s, is 73 m in 24 steps) does not gather a long
-/// corridor.
+/// docs/ACCURACY.md ("Side by side with Bullet").
+inline constexpr double kGatherLookahead_steps = 12.0;
+/// Longest look-ahead (unit: m), so that a car far above the top speed
+/// (365 m/s: 36 m in 12 steps) does not gather a long corridor.
 inline constexpr double kGatherLookaheadMax_m = 50.0;
 
 /// Gathers the triangles whose grid boxes (their bounds rounded outward to
