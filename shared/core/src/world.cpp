@@ -120,11 +120,16 @@ void gather_for_step(const Scene& sc, const Vec3& position, const Vec3& velocity
     const PhysicsSettings& ps = sc.physics;
     const double travel = velocity.norm() * ps.dt_s();
     const GatherReach reach = gather_reach(ps, GatherFor::step, travel);
-    if (cs.candidates.covers(position, reach.cover_m)) return;
+    Candidates& cand = cs.candidates;
+    if (cand.covers(position, reach.cover_m)) {
+        ++cand.steps_served;
+        return;
+    }
     // The look-ahead shapes a gather's region (never a result): worked out
     // only when the step gathers.
-    cs.candidates.lookahead = gather_lookahead(ps, velocity, travel);
-    gather_candidates(sc.query(), position, reach.gather_m, cs.candidates);
+    cand.lookahead = gather_lookahead(ps, velocity, travel, cand.steps_served);
+    cand.steps_served = 1;
+    gather_candidates(sc.query(), position, reach.gather_m, cand);
 }
 
 // Phase 1: sense contacts, apply controls and forces, integrate; a car at

@@ -40,8 +40,15 @@ inline constexpr double kGatherMargin_m = 0.5;
 /// (unit: steps); see Candidates::lookahead. Other values are compared in
 /// docs/ACCURACY.md ("Side by side with Bullet").
 inline constexpr double kGatherLookahead_steps = 12.0;
+/// The look-ahead of a car whose last region served at least
+/// kGatherLookahead_steps steps (unit: steps): its path followed its
+/// velocity, so a region twice as long saves every other gather. A car
+/// whose region ended sooner (it turned, hit something or was placed
+/// elsewhere) looks kGatherLookahead_steps ahead, so that a path its
+/// velocity does not predict pays for no longer region.
+inline constexpr double kGatherLookaheadLong_steps = 24.0;
 /// Longest look-ahead (unit: m), so that a car far above the top speed
-/// (365 m/s: 36 m in 12 steps) does not gather a long corridor.
+/// (365 m/s: 73 m in 24 steps) does not gather a long corridor.
 inline constexpr double kGatherLookaheadMax_m = 50.0;
 
 /// Gathers the triangles whose grid boxes (their bounds rounded outward to
@@ -70,8 +77,10 @@ struct GatherReach {
 inline GatherReach gather_reach(const PhysicsSettings& s, GatherFor why, double motion_m = 0.0);
 
 /// The look-ahead a car moving at `velocity` gathers with (see
-/// Candidates::lookahead), `travel_m` being its motion in one step.
-inline Vec3 gather_lookahead(const PhysicsSettings& s, const Vec3& velocity, double travel_m);
+/// Candidates::lookahead), `travel_m` being its motion in one step and
+/// `served_steps` the steps its last region served (Candidates::steps_served).
+inline Vec3 gather_lookahead(const PhysicsSettings& s, const Vec3& velocity, double travel_m,
+                             std::uint32_t served_steps);
 
 /// Gathers the candidates again around `p` unless they cover `reach`.
 /// True if it gathered.
@@ -120,9 +129,12 @@ inline GatherReach gather_reach(const PhysicsSettings& s, GatherFor why, double 
     return {reach - kGatherMargin_m, gather};
 }
 
-inline Vec3 gather_lookahead(const PhysicsSettings& s, const Vec3& velocity, double travel_m) {
-    Vec3 lookahead = velocity * (s.dt_s() * kGatherLookahead_steps);
-    const double ahead = travel_m * kGatherLookahead_steps;
+inline Vec3 gather_lookahead(const PhysicsSettings& s, const Vec3& velocity, double travel_m,
+                             std::uint32_t served_steps) {
+    const double steps = served_steps >= static_cast<std::uint32_t>(kGatherLookahead_steps) ? kGatherLookaheadLong_steps
+                                                                                          : kGatherLookahead_steps;
+    Vec3 lookahead = velocity * (s.dt_s() * steps);
+    const double ahead = travel_m * steps;
     if (ahead > kGatherLookaheadMax_m) lookahead *= kGatherLookaheadMax_m / ahead;
     return lookahead;
 }
