@@ -15,9 +15,10 @@
 #      native build print that same golden state hash (tools/cross.sh),
 #   5. builds everything with AddressSanitizer + UndefinedBehaviorSanitizer
 #      and libFuzzer's coverage (clang++ -O1 with line tables only: file and
-#      line in every report, a seventh less compile time than -g; asserts on)
-#      into build-asan/ and runs the whole CTest suite there (the fuzz
-#      corpus replays included),
+#      line in every report, a seventh less compile time than -g; asserts on;
+#      UBSan leaves Boost's headers out, cmake/ubsan_ignore.txt) into
+#      build-asan/ and runs the whole CTest suite there (the fuzz corpus
+#      replays included),
 #   6. runs every libFuzzer target of that build for a bounded time
 #      (tools/fuzz.sh).
 # Options: JETRACE_TEST_LABELS="quick" to run only some labels (default: all);
