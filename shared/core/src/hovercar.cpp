@@ -74,33 +74,34 @@ SupportFrame support_frame(const Contacts& contacts, const Vec3& fwd, const Vec3
     return f;
 }
 
-// Turns the unit orientation q about its own up.
-void steer(const PhysicsSettings& s, const Input& input, Quat& q) {
+// Turns the unit orientation q about its own up over one step of `dt` (unit: s).
+void steer(const PhysicsSettings& s, double dt, const Input& input, Quat& q) {
     if (input.steer == 0) return;
     // Positive steer turns right: a negative rotation about up.
-    const double angle = -static_cast<double>(input.steer) / Input::kMaxSteer * s.steer_rate_radps * s.dt_s();
+    const double angle = -static_cast<double>(input.steer) / Input::kMaxSteer * s.steer_rate_radps * dt;
     q = axis_angle(axis_y(q), angle) * q;
 }
 
-// Sideways friction (seed: static threshold above the kinetic decrement).
-void sideways_friction(const PhysicsSettings& s, const Vec3& right, CarState& car) {
+// Sideways friction over one step of `dt` (unit: s; seed: static threshold
+// above the kinetic decrement).
+void sideways_friction(const PhysicsSettings& s, double dt, const Vec3& right, CarState& car) {
     const double lateral = car.velocity.dot(right);
-    const double grip = s.grip_mps2 * s.dt_s();
+    const double grip = s.grip_mps2 * dt;
     if (std::abs(lateral) <= grip) {
         car.velocity -= right * lateral;  // grip
     } else {
-        const double slide = s.slide_mps2 * s.dt_s();
+        const double slide = s.slide_mps2 * dt;
         car.velocity -= right * (lateral > 0 ? slide : -slide);  // drift
     }
 }
 
-void brake(const PhysicsSettings& s, const SupportFrame& f, CarState& car) {
+void brake(const PhysicsSettings& s, double dt, const SupportFrame& f, CarState& car) {
     // Slow the along-surface velocity by brake*dt, never reversing it.
     const Vec3 along = car.velocity - f.normal * car.velocity.dot(f.normal);
     const double speed2 = along.squaredNorm();
     if (speed2 <= 0.0) return;
     const double speed = std::sqrt(speed2);
-    const double dv = s.brake_mps2 * s.dt_s();
+    const double dv = s.brake_mps2 * dt;
     car.velocity -= speed <= dv ? along : along * (dv / speed);
 }
 
@@ -112,7 +113,7 @@ void apply_controls_and_forces(const PhysicsSettings& s, const Contacts& contact
     const double dt = s.dt_s();
     Quat q = car.unit_orientation();
     if (input.steer != 0) {
-        steer(s, input, q);
+        steer(s, dt, input, q);
         car.orientation = q;
     }
     const SupportFrame f = support_frame(contacts, axis_z(q), axis_y(q), s.ride_min_cos);
@@ -138,9 +139,9 @@ void apply_controls_and_forces(const PhysicsSettings& s, const Contacts& contact
 
     // Brake and friction act on motion: a car exactly at rest has none.
     if (f.grounded && !is_zero(car.velocity)) {
-        if (input.brake) brake(s, f, car);
+        if (input.brake) brake(s, dt, f, car);
         if (!have_forward) forward = f.forward();
-        sideways_friction(s, forward.cross(f.normal), car);
+        sideways_friction(s, dt, forward.cross(f.normal), car);
     }
 }
 

@@ -119,14 +119,14 @@ Input effective_input(const WorldState& st, std::span<const Input> inputs, std::
 void gather_for_step(const Scene& sc, const Vec3& position, const Vec3& velocity, CarScratch& cs) {
     const PhysicsSettings& ps = sc.physics;
     const double travel = velocity.norm() * ps.dt_s();
-    const GatherReach reach = gather_reach(ps, GatherFor::step, travel);
     Candidates& cand = cs.candidates;
-    if (cand.covers(position, reach.cover_m)) {
+    if (cand.covers(position, step_cover(ps, travel))) {
         ++cand.steps_served;
         return;
     }
-    // The look-ahead shapes a gather's region (never a result): worked out
-    // only when the step gathers.
+    // The gather's reach and look-ahead shape its region (never a result):
+    // worked out only when the step gathers.
+    const GatherReach reach = gather_reach(ps, GatherFor::step, travel);
     cand.lookahead = gather_lookahead(ps, velocity, travel, cand.steps_served);
     cand.steps_served = 1;
     gather_candidates(sc.query(), position, reach.gather_m, cand);

@@ -76,6 +76,13 @@ struct GatherReach {
 /// The gather policy, the one place that decides candidate reach.
 inline GatherReach gather_reach(const PhysicsSettings& s, GatherFor why, double motion_m = 0.0);
 
+/// gather_reach(s, GatherFor::step, motion_m).cover_m alone: what a step
+/// checks its candidates against every time, before it knows whether it
+/// gathers.
+inline double step_cover(const PhysicsSettings& s, double motion_m) {
+    return s.car_radius_m + s.contact_skin_m + motion_m;
+}
+
 /// The look-ahead a car moving at `velocity` gathers with (see
 /// Candidates::lookahead), `travel_m` being its motion in one step and
 /// `served_steps` the steps its last region served (Candidates::steps_served).
@@ -123,10 +130,11 @@ inline GatherReach gather_reach(const PhysicsSettings& s, GatherFor why, double 
     // A step: wide enough for the step's sweep too (its motion is about
     // motion_m; kGatherMargin_m absorbs the step's acceleration), so that
     // the sweep does not gather again.
-    const double reach = s.car_radius_m + s.contact_skin_m + motion_m + kGatherMargin_m;
+    const double cover = step_cover(s, motion_m);
+    const double reach = cover + kGatherMargin_m;
     const double gather =
         s.collision_mode == CollisionMode::swept ? std::max(reach, sweep_reach(s, motion_m) + kGatherMargin_m) : reach;
-    return {reach - kGatherMargin_m, gather};
+    return {cover, gather};
 }
 
 inline Vec3 gather_lookahead(const PhysicsSettings& s, const Vec3& velocity, double travel_m,
