@@ -4,9 +4,9 @@
 // silent, re-opens each as the server drops it, and keeps fresh connection
 // requests going, until the race is over (at most 30 s of real time);
 // meanwhile an honest bot from 127.0.0.1 joins within its join window and
-// finishes its race. Without the
-// server's pre-Hello cap (net::ServerConfig::max_pending_per_address) the
-// flooder holds every peer slot and the bot never gets in.
+// finishes its race. Without the server's pre-Hello cap
+// (net::ServerConfig::max_pending_per_address) the flooder holds every peer
+// slot and the bot never gets in.
 #include "support/live_race.hpp"
 #include "support/log_capture.hpp"
 
@@ -15,9 +15,9 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <functional>
 #include <sstream>
 #include <string>
