@@ -40,6 +40,7 @@ void gather_candidates(const TrackQuery& q, const Vec3& center, double radius_m,
     out.region.min += out.lookahead.cwiseMin(Vec3::Zero());
     out.region.max += out.lookahead.cwiseMax(Vec3::Zero());
     out.triangles.clear();
+    out.steps_served = 0;
     out.all = q.broadphase == Broadphase::brute_force;
     if (out.all) {
         out.finish_gather([](std::uint32_t) -> FloatBox { return {}; });

@@ -120,16 +120,14 @@ void gather_for_step(const Scene& sc, const Vec3& position, const Vec3& velocity
     const PhysicsSettings& ps = sc.physics;
     const double travel = velocity.norm() * ps.dt_s();
     Candidates& cand = cs.candidates;
-    if (cand.covers(position, step_cover(ps, travel))) {
-        ++cand.steps_served;
-        return;
+    if (!cand.covers(position, step_cover(ps, travel))) {
+        // The gather's reach and look-ahead shape its region (never a
+        // result): worked out only when the step gathers.
+        const GatherReach reach = gather_reach(ps, GatherFor::step, travel);
+        cand.lookahead = gather_lookahead(ps, velocity, travel, cand.steps_served);
+        gather_candidates(sc.query(), position, reach.gather_m, cand);
     }
-    // The gather's reach and look-ahead shape its region (never a result):
-    // worked out only when the step gathers.
-    const GatherReach reach = gather_reach(ps, GatherFor::step, travel);
-    cand.lookahead = gather_lookahead(ps, velocity, travel, cand.steps_served);
-    cand.steps_served = 1;
-    gather_candidates(sc.query(), position, reach.gather_m, cand);
+    ++cand.steps_served;
 }
 
 // Phase 1: sense contacts, apply controls and forces, integrate; a car at

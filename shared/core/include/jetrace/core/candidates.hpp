@@ -102,9 +102,9 @@ struct Candidates {
     /// next): a gather also covers the region ahead, so one gather serves
     /// those steps.
     Vec3 lookahead{0, 0, 0};
-    /// Steps that have checked this region since it was gathered (counted
-    /// by the step's gather check, which sizes the next look-ahead by it;
-    /// unit: steps).
+    /// Steps that have used this region since it was gathered (a gather
+    /// sets 0; the step's gather check counts, and sizes the next
+    /// look-ahead by it; unit: steps).
     std::uint32_t steps_served = 0;
     bool all = false;  // brute force: every triangle
     /// The gather's scratch (kept to keep its capacity).
