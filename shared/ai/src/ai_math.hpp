@@ -13,7 +13,7 @@ namespace jetrace::ai_detail {
 inline std::int32_t wrap(std::int32_t i, std::int32_t n) { return i >= 0 && i < n ? i : ((i % n) + n) % n; }
 
 /// The part of `v` in the plane across unit vector `n`.
-inline Vec3 in_plane(const Vec3& v, const Vec3& n) { return v - n * v.dot(n); }
+[[gnu::always_inline]] inline Vec3 in_plane(const Vec3& v, const Vec3& n) { return v - n * v.dot(n); }
 
 /// Heading error of unit direction `d` against the car's forward: about the
 /// angle (its sine) while ahead, beyond a right angle (2 - sine) when behind.

@@ -76,12 +76,6 @@ Quat nlerp_from_identity(const Quat& q, double t) {
     return Quat(w * inv, x * inv, y * inv, z * inv);
 }
 
-Vec3 normalized_or(const Vec3& v, const Vec3& fallback, double min_len) {
-    const double n2 = v.squaredNorm();
-    if (!(n2 > min_len * min_len)) return fallback;
-    return v * (1.0 / std::sqrt(n2));
-}
-
 void Fnv1a::bytes(const void* data, std::size_t n) {
     const auto* p = static_cast<const unsigned char*>(data);
     for (std::size_t i = 0; i < n; ++i) {

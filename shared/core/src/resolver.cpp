@@ -66,8 +66,9 @@ bool closest_within(const Candidates& cand, std::uint32_t index, const Triangle&
     return closest_point_within(p, t, cand.frames.get(index, t), reach_m, out);
 }
 
-// Triangle `index`'s unit normal (Triangle::normal(), kept).
-Vec3 unit_normal(const Candidates& cand, std::uint32_t index, const Triangle& t) {
+// Triangle `index`'s unit normal (Triangle::normal(), kept). Always inline:
+// kept, it is a few loads, which a call and a returned copy would double.
+[[gnu::always_inline]] inline Vec3 unit_normal(const Candidates& cand, std::uint32_t index, const Triangle& t) {
     if (cand.all || t.degenerate) return t.normal();
     return cand.frames.get(index, t).normal;
 }

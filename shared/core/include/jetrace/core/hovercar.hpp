@@ -68,7 +68,7 @@ struct CarState {
     /// Racing ticks since best_gate_distance_m last improved by 1 m.
     std::uint32_t no_progress_ticks = 0;
 
-    Quat unit_orientation() const { return normalized_near_unit(orientation); }
+    [[gnu::always_inline]] Quat unit_orientation() const { return normalized_near_unit(orientation); }
     Vec3 forward() const { return axis_z(unit_orientation()); }
     Vec3 up() const { return axis_y(unit_orientation()); }
 };

@@ -47,7 +47,11 @@ Quat shortest_arc(const Vec3& from, const Vec3& to);
 Quat nlerp_from_identity(const Quat& q, double t);
 
 /// `v / |v|`, or `fallback` when |v| is below `min_len`.
-Vec3 normalized_or(const Vec3& v, const Vec3& fallback, double min_len = 1e-12);
+[[gnu::always_inline]] inline Vec3 normalized_or(const Vec3& v, const Vec3& fallback, double min_len = 1e-12) {
+    const double n2 = v.squaredNorm();
+    if (!(n2 > min_len * min_len)) return fallback;
+    return v * (1.0 / std::sqrt(n2));
+}
 
 namespace quantize_detail {
 // Round to nearest, ties to even, without a libm call: adding and
@@ -148,7 +152,7 @@ inline void quantize(Quat& q, int bits) {
 /// 1/sqrt, no sqrt or division, leaves |q| - 1 below 2e-8 (a thousandth of
 /// the quantisation step); falls back to an exact normalisation farther
 /// from unit.
-inline Quat normalized_near_unit(const Quat& q) {
+[[gnu::always_inline]] inline Quat normalized_near_unit(const Quat& q) {
     const double w = q.w(), x = q.x(), y = q.y(), z = q.z();
     const double n2 = w * w + x * x + y * y + z * z;
     if (!(n2 > 0.999 && n2 < 1.001)) {

@@ -60,7 +60,7 @@ inline GateCrossing cross_gate(const Checkpoint& g, const Vec3& from, const Vec3
     return {true, f};
 }
 
-inline double squared_distance_to_gate(const Checkpoint& g, const Vec3& p) {
+[[gnu::always_inline]] inline double squared_distance_to_gate(const Checkpoint& g, const Vec3& p) {
     const Vec3 q = p - g.center;
     const double a = std::clamp(q.dot(g.across), -g.half_width_m, g.half_width_m);
     const double u = std::clamp(q.dot(g.up), -g.half_height_m, g.half_height_m);
