@@ -54,7 +54,7 @@ struct SupportFrame {
     // Unit forward along the surface. Facing straight into or out of the
     // surface: the direction the car's up leans, so thrust still has a
     // direction along the surface.
-    Vec3 forward() const {
+    [[gnu::always_inline]] Vec3 forward() const {
         if (tangent_forward.squaredNorm() > kMinLen * kMinLen) return normalized_or(tangent_forward, {}, kMinLen);
         return normalized_or(tangent_up, Vec3::Zero(), kMinLen);
     }
