@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace jetrace {
 
@@ -41,37 +42,42 @@ void place_car(CarState& car, const Pose& pose) {
 
 namespace {
 
-// The support frame: the contact normal closest to the car's up, and the
-// car's forward and right projected into that surface. The normalised
-// directions are only computed when thrust or friction needs them (a car at
-// rest with the throttle off does not).
-struct SupportFrame {
-    bool grounded = false;
-    Vec3 normal{0, 1, 0};
-    Vec3 tangent_forward{0, 0, 0};  // car forward projected into the surface (not unit)
-    Vec3 tangent_up{0, 0, 0};       // car up projected into the surface (not unit)
+// Shortest projection of a unit axis into a surface that still gives a
+// direction along it.
+constexpr double kMinTangent = 1e-6;
 
-    // Unit forward along the surface. Facing straight into or out of the
-    // surface: the direction the car's up leans, so thrust still has a
-    // direction along the surface.
-    [[gnu::always_inline]] Vec3 forward() const {
-        if (tangent_forward.squaredNorm() > kMinLen * kMinLen) return normalized_or(tangent_forward, {}, kMinLen);
-        return normalized_or(tangent_up, Vec3::Zero(), kMinLen);
-    }
-    static constexpr double kMinLen = 1e-6;
-};
-
-SupportFrame support_frame(const Contacts& contacts, const Vec3& fwd, const Vec3& up, double min_cos) {
-    SupportFrame f;
+// The support frame of a car with unit orientation `q`: the contact normal
+// closest to its up, and its forward along that surface: its own forward
+// projected into it or, facing straight into or out of it, the direction
+// its up leans (so thrust still has a direction). Kept in `memo`, a
+// function of `q` and the normal alone: found again with the same bits of
+// both (a car going straight over one flat surface), it is reused.
+const SupportMemo& support_frame(const Contacts& contacts, const Quat& q, double min_cos, SupportMemo& memo) {
+    const Vec3 up = axis_y(q);
     const int i = contacts.support(up, min_cos);
-    if (i < 0) return f;
-    f.normal = contacts.normal[i];
-    f.tangent_forward = fwd - f.normal * fwd.dot(f.normal);
-    f.tangent_up = up - f.normal * up.dot(f.normal);
-    constexpr double min2 = SupportFrame::kMinLen * SupportFrame::kMinLen;
+    if (i < 0) {
+        memo.grounded = false;
+        memo.valid = false;
+        return memo;
+    }
+    const Vec3& normal = contacts.normal[i];
+    if (memo.valid && std::memcmp(memo.orientation.coeffs().data(), q.coeffs().data(), 4 * sizeof(double)) == 0 &&
+        std::memcmp(memo.normal.data(), normal.data(), 3 * sizeof(double)) == 0) {
+        return memo;
+    }
+    const Vec3 fwd = axis_z(q);
+    const Vec3 tangent_forward = fwd - normal * fwd.dot(normal);
+    const Vec3 tangent_up = up - normal * up.dot(normal);
+    constexpr double min2 = kMinTangent * kMinTangent;
+    const bool along_forward = tangent_forward.squaredNorm() > min2;
     // No usable direction along the surface: treat as airborne.
-    f.grounded = f.tangent_forward.squaredNorm() > min2 || f.tangent_up.squaredNorm() > min2;
-    return f;
+    memo.grounded = along_forward || tangent_up.squaredNorm() > min2;
+    memo.forward = along_forward ? normalized_or(tangent_forward, {}, kMinTangent)
+                                 : normalized_or(tangent_up, Vec3::Zero(), kMinTangent);
+    memo.orientation = q;
+    memo.normal = normal;
+    memo.valid = true;
+    return memo;
 }
 
 // Turns the unit orientation q about its own up over one step of `dt` (unit: s).
@@ -95,7 +101,7 @@ void sideways_friction(const PhysicsSettings& s, double dt, const Vec3& right, C
     }
 }
 
-void brake(const PhysicsSettings& s, double dt, const SupportFrame& f, CarState& car) {
+void brake(const PhysicsSettings& s, double dt, const SupportMemo& f, CarState& car) {
     // Slow the along-surface velocity by brake*dt, never reversing it.
     const Vec3 along = car.velocity - f.normal * car.velocity.dot(f.normal);
     const double speed2 = along.squaredNorm();
@@ -109,24 +115,19 @@ bool is_zero(const Vec3& v) { return v.x() == 0.0 && v.y() == 0.0 && v.z() == 0.
 
 }  // namespace
 
-void apply_controls_and_forces(const PhysicsSettings& s, const Contacts& contacts, const Input& input, CarState& car) {
+void apply_controls_and_forces(const PhysicsSettings& s, const Contacts& contacts, const Input& input, CarState& car,
+                               SupportMemo& memo) {
     const double dt = s.dt_s();
     Quat q = car.unit_orientation();
     if (input.steer != 0) {
         steer(s, dt, input, q);
         car.orientation = q;
     }
-    const SupportFrame f = support_frame(contacts, axis_z(q), axis_y(q), s.ride_min_cos);
+    const SupportMemo& f = support_frame(contacts, q, s.ride_min_cos, memo);
 
     Vec3 accel(0.0, -s.gravity_mps2, 0.0);
-    Vec3 forward = Vec3::Zero();
-    bool have_forward = false;
     if (f.grounded) {
-        if (input.throttle > 0) {
-            forward = f.forward();
-            have_forward = true;
-            accel += forward * (s.thrust_mps2 * input.throttle / Input::kMaxThrottle);
-        }
+        if (input.throttle > 0) accel += f.forward * (s.thrust_mps2 * input.throttle / Input::kMaxThrottle);
         // Normal force: the surface cancels the part of the acceleration that
         // pushes into it (so a car at rest stays exactly at rest).
         const double into = accel.dot(f.normal);
@@ -140,9 +141,13 @@ void apply_controls_and_forces(const PhysicsSettings& s, const Contacts& contact
     // Brake and friction act on motion: a car exactly at rest has none.
     if (f.grounded && !is_zero(car.velocity)) {
         if (input.brake) brake(s, dt, f, car);
-        if (!have_forward) forward = f.forward();
-        sideways_friction(s, dt, forward.cross(f.normal), car);
+        sideways_friction(s, dt, f.forward.cross(f.normal), car);
     }
+}
+
+void apply_controls_and_forces(const PhysicsSettings& s, const Contacts& contacts, const Input& input, CarState& car) {
+    SupportMemo memo;
+    apply_controls_and_forces(s, contacts, input, car, memo);
 }
 
 void integrate(const PhysicsSettings& s, const Vec3& v0, CarState& car) {

@@ -73,21 +73,33 @@ bool closest_within(const Candidates& cand, std::uint32_t index, const Triangle&
     return cand.frames.get(index, t).normal;
 }
 
-// Direction from the surface point `q` to the centre `p`. Inside the face
-// region that is the face normal (on the centre's side), exactly: a car at
-// rest on a flat floor then feels an exactly vertical normal, not one tilted
-// by the rounding of the closest point. If the centre lies on the triangle,
-// the face normal on the side the car came from (`came_from`; nullptr: p +
-// the normal, the normal's own side).
+// The least squared distance d2 whose square root exceeds 1e-9 m: a test
+// `d2 >= kContactDist2` gives exactly `std::sqrt(d2) > 1e-9` (the rounded
+// square root is monotonic), without waiting for the root.
+const double kContactDist2 = [] {
+    constexpr double kMin = 1e-9;
+    double d2 = kMin * kMin;
+    while (std::sqrt(d2) > kMin) d2 = std::nextafter(d2, 0.0);
+    while (!(std::sqrt(d2) > kMin)) d2 = std::nextafter(d2, 1.0);
+    return d2;
+}();
+
+// Direction from the surface point `q` to the centre `p`, `d2` apart
+// (squared). Inside the face region that is the face normal (on the
+// centre's side), exactly: a car at rest on a flat floor then feels an
+// exactly vertical normal, not one tilted by the rounding of the closest
+// point. If the centre lies on the triangle (within 1e-9 m), the face
+// normal on the side the car came from (`came_from`; nullptr: p + the
+// normal, the normal's own side).
 Vec3 contact_normal(const Candidates& cand, std::uint32_t index, const Triangle& t, const ClosestPoint& cp,
-                    const Vec3& p, double dist, const Vec3* came_from) {
+                    const Vec3& p, double d2, const Vec3* came_from) {
     const Vec3& q = cp.point;
-    if (dist > 1e-9) {
+    if (d2 >= kContactDist2) {
         if (cp.region == TriRegion::face && !t.degenerate) {
             const Vec3 n = unit_normal(cand, index, t);
             return (p - q).dot(n) < 0.0 ? Vec3(-n) : n;
         }
-        return (p - q) / dist;
+        return (p - q) / std::sqrt(d2);
     }
     if (t.degenerate) return kWorldUp;
     const Vec3 n = unit_normal(cand, index, t);
@@ -150,7 +162,7 @@ void find_contacts(const TrackQuery& q, const Candidates& cand, const Vec3& cent
         ClosestPoint cp;
         if (!closest_within(cand, index, t, center, reach, cp)) return true;
         const double d2 = (center - cp.point).squaredNorm();
-        if (d2 < reach2) out.add(contact_normal(cand, index, t, cp, center, std::sqrt(d2), nullptr));
+        if (d2 < reach2) out.add(contact_normal(cand, index, t, cp, center, d2, nullptr));
         return true;
     });
 }
@@ -210,12 +222,12 @@ int push_pass(const TrackQuery& q, const SphereMotion& car, Candidates& cand, bo
             if (touching && reach != r) touching = touches_at(cand, at, index, t, position, r);
             if (!touching) {
                 if (collect && pushes == 0 && d2 < query2) {
-                    contacts.add(contact_normal(cand, index, t, cp, position, std::sqrt(d2), nullptr));
+                    contacts.add(contact_normal(cand, index, t, cp, position, d2, nullptr));
                 }
                 return true;
             }
             reach = r;
-            const Vec3 n = contact_normal(cand, index, t, cp, position, std::sqrt(d2), &car.from);
+            const Vec3 n = contact_normal(cand, index, t, cp, position, d2, &car.from);
             position = cp.point + n * target;
             const double vn = velocity.dot(n);
             if (vn < 0.0) velocity -= n * vn;  // inelastic: no velocity into the surface

@@ -157,7 +157,7 @@ void drive_phase(const Scene& sc, WorldState& st, std::span<const Input> inputs,
         gather_for_step(sc, car.position, car.velocity, cs);
         ensure_contacts(sc, cs, car.position);
         const Vec3 v0 = car.velocity;
-        apply_controls_and_forces(ps, cs.contacts, in, car);
+        apply_controls_and_forces(ps, cs.contacts, in, car, cs.support);
         integrate(ps, v0, car);
         if (cs.candidate) cs.rest_mid = motion_of(car);
     }

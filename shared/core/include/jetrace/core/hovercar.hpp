@@ -84,6 +84,26 @@ Quat orientation_from(const Vec3& forward, const Vec3& up);
 /// sideways friction. Changes velocity and orientation, not position.
 void apply_controls_and_forces(const PhysicsSettings& s, const Contacts& contacts, const Input& input, CarState& car);
 
+/// The surface a car rides on, as apply_controls_and_forces() works it
+/// out: the contact normal closest to the car's up, and the car's unit
+/// forward along that surface. A function of the car's unit orientation
+/// and that normal alone, so the caller may keep it between steps (a car
+/// going straight over one flat surface finds both again bit for bit and
+/// reuses it); it never changes a result.
+struct SupportMemo {
+    /// The key: the orientation and the supporting normal it was worked out for.
+    Quat orientation{0, 0, 0, 0};
+    Vec3 normal{0, 1, 0};
+    bool valid = false;
+    /// Supported, with a direction along the surface.
+    bool grounded = false;
+    /// Unit direction along the surface (valid when grounded).
+    Vec3 forward{0, 0, 0};
+};
+/// The same, with the support frame kept in `memo` between calls.
+void apply_controls_and_forces(const PhysicsSettings& s, const Contacts& contacts, const Input& input, CarState& car,
+                               SupportMemo& memo);
+
 /// The end of phase 1: moves the car by its velocity with the configured
 /// integrator; `velocity_before` is its velocity before
 /// apply_controls_and_forces() (Verlet and explicit Euler use it).

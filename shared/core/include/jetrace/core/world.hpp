@@ -65,6 +65,8 @@ struct CarScratch {
     /// exactly these bits (one that did not turn) needs no rounding.
     Quat quantized_orientation{1, 0, 0, 0};
     bool quantized_valid = false;
+    /// The support frame of the car's last controls (see SupportMemo).
+    SupportMemo support;
     /// A car at rest (a parked car, one waiting for the start, a finished
     /// one held by the brake): its last step, with input `rest_input`,
     /// left its motion (position, velocity, orientation) `rest` bit for bit
