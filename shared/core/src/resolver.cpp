@@ -46,8 +46,10 @@ void for_each_touching(const Track& track, const Candidates& cand, std::size_t k
     // The triangles are read one after another below, each after the last
     // one's tests: on a track of millions (80 bytes each, far outside the
     // caches) their loads would wait in turn. Asking for them all first
-    // lets them arrive together (a hint: it changes no result).
-    for (std::size_t i = 0; i < count; ++i) {
+    // lets them arrive together (a hint: it changes no result). For one or
+    // two (a car over a coarse mesh) the hint's own loads cost more than
+    // the overlap saves: none then.
+    for (std::size_t i = 0; count > 2 && i < count; ++i) {
         const char* bytes = reinterpret_cast<const char*>(&track.triangles[cand.triangles[cand.found[i]]]);
         __builtin_prefetch(bytes);
         __builtin_prefetch(bytes + sizeof(Triangle) - 1);
