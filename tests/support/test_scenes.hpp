@@ -19,7 +19,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <bit>
 #include <cstdint>
 #include <cstdlib>
 #include <random>
@@ -59,18 +58,6 @@ inline WorldState one_car(const Pose& pose, const Vec3& velocity = Vec3::Zero())
 
 inline void step1(const Scene& sc, WorldState& st, const Input& in, StepScratch& scratch) {
     step(sc, st, std::span<const Input>(&in, 1), scratch);
-}
-
-
-inline std::uint64_t bits(double x) { return std::bit_cast<std::uint64_t>(x); }
-
-inline bool same_bits(const Vec3& a, const Vec3& b) {
-    return bits(a.x()) == bits(b.x()) && bits(a.y()) == bits(b.y()) && bits(a.z()) == bits(b.z());
-}
-
-inline bool same_bits(const Quat& a, const Quat& b) {
-    return bits(a.w()) == bits(b.w()) && bits(a.x()) == bits(b.x()) && bits(a.y()) == bits(b.y()) &&
-           bits(a.z()) == bits(b.z());
 }
 
 // Steps `ticks` times with zero input; the car's position, velocity and

@@ -21,6 +21,7 @@
 
 namespace {
 
+using jetrace::same_bits;
 using jetrace::Track;
 using Bytes = std::vector<std::uint8_t>;
 
@@ -28,13 +29,6 @@ Track builtin(const char* name) {
     Track t;
     EXPECT_TRUE(jetrace::make_builtin_track(name, t));
     return t;
-}
-
-bool same_bits(const jetrace::Vec3& a, const jetrace::Vec3& b) {
-    for (int i = 0; i < 3; ++i) {
-        if (std::bit_cast<std::uint64_t>(a[i]) != std::bit_cast<std::uint64_t>(b[i])) return false;
-    }
-    return true;
 }
 
 // Every field the physics reads, bit for bit.

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cassert>
 #include <cstdio>
-#include <cstring>
 #include <type_traits>
 
 namespace jetrace {
@@ -75,10 +74,7 @@ inline void ensure_contacts(const Scene& sc, CarScratch& cs, const Vec3& positio
 // bit what the last rounding produced (rounding is idempotent: a car that
 // did not turn this step keeps its bits).
 void quantize_orientation_cached(CarScratch& cs, CarState& car) {
-    if (cs.quantized_valid &&
-        std::memcmp(cs.quantized_orientation.coeffs().data(), car.orientation.coeffs().data(), 4 * sizeof(double)) == 0) {
-        return;
-    }
+    if (cs.quantized_valid && same_bits(cs.quantized_orientation, car.orientation)) return;
     quantize_orientation(car);
     cs.quantized_orientation = car.orientation;
     cs.quantized_valid = true;
@@ -86,12 +82,9 @@ void quantize_orientation_cached(CarScratch& cs, CarState& car) {
 
 using Motion = CarScratch::Motion;
 
-// Bit for bit (not ==, which takes -0 for +0).
-bool same_bits(const Vec3& a, const Vec3& b) { return std::memcmp(a.data(), b.data(), 3 * sizeof(double)) == 0; }
-
 bool same_motion(const CarState& car, const Motion& m) {
     return same_bits(car.position, m.position) && same_bits(car.velocity, m.velocity) &&
-           std::memcmp(car.orientation.coeffs().data(), m.orientation.coeffs().data(), 4 * sizeof(double)) == 0;
+           same_bits(car.orientation, m.orientation);
 }
 
 Motion motion_of(const CarState& car) { return {car.position, car.velocity, car.orientation}; }

@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 namespace jetrace {
 
@@ -167,6 +168,13 @@ inline void quantize(Quat& q, int bits) {
 /// Bit-for-bit equality of every component (+0 and -0 compare equal), in
 /// plain scalar code: cheaper than Eigen's `==` on the step path.
 inline bool same(const Vec3& a, const Vec3& b) { return a.x() == b.x() && a.y() == b.y() && a.z() == b.z(); }
+
+/// Identical bits in every component (-0 differs from +0): the test for
+/// reusing what a pure function worked out from these very values.
+inline bool same_bits(const Vec3& a, const Vec3& b) { return std::memcmp(a.data(), b.data(), 3 * sizeof(double)) == 0; }
+inline bool same_bits(const Quat& a, const Quat& b) {
+    return std::memcmp(a.coeffs().data(), b.coeffs().data(), 4 * sizeof(double)) == 0;
+}
 
 /// Image of local +Y (up) under unit quaternion q.
 inline Vec3 axis_y(const Quat& q) {
