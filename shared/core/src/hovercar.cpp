@@ -46,48 +46,60 @@ namespace {
 // direction along it.
 constexpr double kMinTangent = 1e-6;
 
-// The support frame of a car with unit orientation `q`: the contact normal
-// closest to its up, and its forward along that surface: its own forward
-// projected into it or, facing straight into or out of it, the direction
-// its up leans (so thrust still has a direction). Kept in `memo`, a
-// function of `q` and the normal alone: found again with the same bits of
-// both (a car going straight over one flat surface), it is reused.
-const SupportMemo& support_frame(const Contacts& contacts, const Quat& q, double min_cos, SupportMemo& memo) {
-    const Vec3 up = axis_y(q);
+// Whether `memo` holds the unit form of the stored orientation `stored`.
+bool holds_unit_of(const SupportMemo& memo, const Quat& stored) {
+    // same_bits(), written out: through the call GCC's link-time inlining
+    // chooses differently elsewhere.
+    return memo.unit_valid && std::memcmp(memo.stored.coeffs().data(), stored.coeffs().data(), 4 * sizeof(double)) == 0;
+}
+
+// The unit form of the car's stored orientation, and its up, in `memo`:
+// found again with the same stored bits, the last ones are kept (and so is
+// the support frame worked out for them).
+const SupportMemo& unit_frame(const Quat& stored, SupportMemo& memo) {
+    if (holds_unit_of(memo, stored)) return memo;
+    memo.stored = stored;
+    memo.unit = normalized_near_unit(stored);
+    memo.up = axis_y(memo.unit);
+    memo.unit_valid = true;
+    memo.frame_valid = false;
+    return memo;
+}
+
+// The supporting normal among `contacts` for a car with unit orientation
+// `q` and up `up`, and its forward along it (see SupportMemo), into `f`.
+// `kept`: `f` already holds the frame worked out for this `q`, valid if
+// the normal is the same too.
+void support_frame(const Contacts& contacts, const Quat& q, const Vec3& up, double min_cos, bool kept,
+                   SupportMemo& f) {
     const int i = contacts.support(up, min_cos);
     if (i < 0) {
-        memo.grounded = false;
-        memo.valid = false;
-        return memo;
+        f.grounded = false;
+        f.frame_valid = false;
+        return;
     }
     const Vec3& normal = contacts.normal[i];
-    // same_bits(), written out: through the call GCC's link-time inlining
-    // chooses differently elsewhere (0.6 million more instructions a race).
-    if (memo.valid && std::memcmp(memo.orientation.coeffs().data(), q.coeffs().data(), 4 * sizeof(double)) == 0 &&
-        std::memcmp(memo.normal.data(), normal.data(), 3 * sizeof(double)) == 0) {
-        return memo;
-    }
+    if (kept && f.frame_valid && std::memcmp(f.normal.data(), normal.data(), 3 * sizeof(double)) == 0) return;
     const Vec3 fwd = axis_z(q);
     const Vec3 tangent_forward = fwd - normal * fwd.dot(normal);
     const Vec3 tangent_up = up - normal * up.dot(normal);
     constexpr double min2 = kMinTangent * kMinTangent;
     const bool along_forward = tangent_forward.squaredNorm() > min2;
     // No usable direction along the surface: treat as airborne.
-    memo.grounded = along_forward || tangent_up.squaredNorm() > min2;
-    memo.forward = along_forward ? normalized_or(tangent_forward, {}, kMinTangent)
-                                 : normalized_or(tangent_up, Vec3::Zero(), kMinTangent);
-    memo.orientation = q;
-    memo.normal = normal;
-    memo.valid = true;
-    return memo;
+    f.grounded = along_forward || tangent_up.squaredNorm() > min2;
+    f.forward = along_forward ? normalized_or(tangent_forward, {}, kMinTangent)
+                              : normalized_or(tangent_up, Vec3::Zero(), kMinTangent);
+    f.normal = normal;
+    // Kept only for the memo's own unit orientation (not a steered one).
+    f.frame_valid = kept;
 }
 
-// Turns the unit orientation q about its own up over one step of `dt` (unit: s).
-void steer(const PhysicsSettings& s, double dt, const Input& input, Quat& q) {
-    if (input.steer == 0) return;
+// The unit orientation q, with up `up`, turned about that up over one step
+// of `dt` (unit: s).
+Quat steered(const PhysicsSettings& s, double dt, const Input& input, const Quat& q, const Vec3& up) {
     // Positive steer turns right: a negative rotation about up.
     const double angle = -static_cast<double>(input.steer) / Input::kMaxSteer * s.steer_rate_radps * dt;
-    q = axis_angle(axis_y(q), angle) * q;
+    return axis_angle(up, angle) * q;
 }
 
 // Sideways friction over one step of `dt` (unit: s; seed: static threshold
@@ -120,12 +132,15 @@ bool is_zero(const Vec3& v) { return v.x() == 0.0 && v.y() == 0.0 && v.z() == 0.
 void apply_controls_and_forces(const PhysicsSettings& s, const Contacts& contacts, const Input& input, CarState& car,
                                SupportMemo& memo) {
     const double dt = s.dt_s();
-    Quat q = car.unit_orientation();
+    const SupportMemo& u = unit_frame(car.orientation, memo);
     if (input.steer != 0) {
-        steer(s, dt, input, q);
+        const Quat q = steered(s, dt, input, u.unit, u.up);
         car.orientation = q;
+        support_frame(contacts, q, axis_y(q), s.ride_min_cos, false, memo);
+    } else {
+        support_frame(contacts, u.unit, u.up, s.ride_min_cos, true, memo);
     }
-    const SupportMemo& f = support_frame(contacts, q, s.ride_min_cos, memo);
+    const SupportMemo& f = memo;
 
     Vec3 accel(0.0, -s.gravity_mps2, 0.0);
     if (f.grounded) {
@@ -161,15 +176,23 @@ void integrate(const PhysicsSettings& s, const Vec3& v0, CarState& car) {
     }
 }
 
-void align_to_contacts(const PhysicsSettings& s, const Contacts& contacts, CarState& car) {
-    const Quat q = car.unit_orientation();
-    const Vec3 up = axis_y(q);
+void align_to_contacts(const PhysicsSettings& s, const Contacts& contacts, CarState& car, const SupportMemo& memo) {
+    // The controls kept the unit orientation in `memo` unless they steered
+    // (then the rounding at the end of this step gives the next controls
+    // other bits: not kept).
+    const bool kept = holds_unit_of(memo, car.orientation);
+    const Quat q = kept ? memo.unit : car.unit_orientation();
+    const Vec3 up = kept ? memo.up : axis_y(q);
     const int i = contacts.support(up, s.ride_min_cos);
     if (i < 0) return;  // in the air: keep the orientation (the seed's tilted jumps)
     if (same(up, contacts.normal[i])) return;  // already aligned: no turn (a car on a flat floor)
     const double t = std::min(1.0, s.align_rate_per_s * s.dt_s());
     const Quat arc = shortest_arc(up, contacts.normal[i]);
     car.orientation = nlerp_from_identity(arc, t) * q;
+}
+
+void align_to_contacts(const PhysicsSettings& s, const Contacts& contacts, CarState& car) {
+    align_to_contacts(s, contacts, car, SupportMemo{});
 }
 
 void quantize_motion(CarState& car) { quantize_motion(car.position, car.velocity); }

@@ -215,7 +215,7 @@ void rules_car(const Scene& sc, const WorldState& st, CarState& car, CarScratch&
     // the rules move a car): the alignment and rounding are the last step's.
     if (cs.asleep && car.respawns == respawns) return;
     ensure_contacts(sc, cs, car.position);
-    align_to_contacts(ps, cs.contacts, car);
+    align_to_contacts(ps, cs.contacts, car, cs.support);
     if (ps.quantize_state) quantize_orientation_cached(cs, car);
     // A step that left a car at rest exactly as it found it.
     cs.rest_valid = cs.candidate && same_motion(car, cs.rest);

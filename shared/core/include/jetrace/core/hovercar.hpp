@@ -84,17 +84,25 @@ Quat orientation_from(const Vec3& forward, const Vec3& up);
 /// sideways friction. Changes velocity and orientation, not position.
 void apply_controls_and_forces(const PhysicsSettings& s, const Contacts& contacts, const Input& input, CarState& car);
 
-/// The surface a car rides on, as apply_controls_and_forces() works it
-/// out: the contact normal closest to the car's up, and the car's unit
-/// forward along that surface. A function of the car's unit orientation
-/// and that normal alone, so the caller may keep it between steps (a car
-/// going straight over one flat surface finds both again bit for bit and
-/// reuses it); it never changes a result.
+/// What the controls and the alignment work out from a car's orientation
+/// and its contacts, kept by the caller between steps; it never changes a
+/// result. Two parts, each a function of its key alone:
+/// - the unit orientation and its up, keyed by the bits of the orientation
+///   as stored (a car that did not turn finds them again: both phases of its
+///   step and the next steps read them without renormalising);
+/// - the support frame: the contact normal closest to the car's up, and the
+///   car's unit forward along that surface, keyed by that unit orientation
+///   and the bits of the normal (a car going straight over one flat surface
+///   reuses it).
 struct SupportMemo {
-    /// The key: the orientation and the supporting normal it was worked out for.
-    Quat orientation{0, 0, 0, 0};
+    /// Key of the first part: the orientation as stored.
+    Quat stored{0, 0, 0, 0};
+    bool unit_valid = false;
+    Quat unit{1, 0, 0, 0};
+    Vec3 up{0, 1, 0};
+    /// Key of the second part: the supporting normal; valid for `unit`.
     Vec3 normal{0, 1, 0};
-    bool valid = false;
+    bool frame_valid = false;
     /// Supported, with a direction along the surface.
     bool grounded = false;
     /// Unit direction along the surface (valid when grounded).
@@ -112,6 +120,9 @@ void integrate(const PhysicsSettings& s, const Vec3& velocity_before, CarState& 
 /// Phase 4 (after the push-out): turns the car's up towards the contact
 /// normal closest to its current up.
 void align_to_contacts(const PhysicsSettings& s, const Contacts& contacts, CarState& car);
+/// The same, reading the unit orientation from `memo` if it holds this
+/// car's (see SupportMemo; the controls keep it).
+void align_to_contacts(const PhysicsSettings& s, const Contacts& contacts, CarState& car, const SupportMemo& memo);
 
 /// Rounds position and velocity to the wire resolution.
 void quantize_motion(CarState& car);

@@ -65,7 +65,8 @@ struct CarScratch {
     /// exactly these bits (one that did not turn) needs no rounding.
     Quat quantized_orientation{1, 0, 0, 0};
     bool quantized_valid = false;
-    /// The support frame of the car's last controls (see SupportMemo).
+    /// The unit orientation and support frame of the car's last controls and
+    /// alignment (see SupportMemo).
     SupportMemo support;
     /// A car at rest (a parked car, one waiting for the start, a finished
     /// one held by the brake): its last step, with input `rest_input`,
