@@ -70,8 +70,10 @@ const SupportMemo& unit_frame(const Quat& stored, SupportMemo& memo) {
 // `q` and up `up`, and its forward along it (see SupportMemo), into `f`.
 // `kept`: `f` already holds the frame worked out for this `q`, valid if
 // the normal is the same too.
-void support_frame(const Contacts& contacts, const Quat& q, const Vec3& up, double min_cos, bool kept,
-                   SupportMemo& f) {
+// Always inline: out of line, its call and the memo's reloads cost more
+// than its hit path.
+[[gnu::always_inline]] inline void support_frame(const Contacts& contacts, const Quat& q, const Vec3& up,
+                                                 double min_cos, bool kept, SupportMemo& f) {
     const int i = contacts.support(up, min_cos);
     if (i < 0) {
         f.grounded = false;
