@@ -47,8 +47,12 @@ inline constexpr double kGatherLookahead_steps = 12.0;
 /// elsewhere) looks kGatherLookahead_steps ahead, so that a path its
 /// velocity does not predict pays for no longer region.
 inline constexpr double kGatherLookaheadLong_steps = 24.0;
+/// The look-ahead of a car whose last region served at least
+/// kGatherLookaheadLong_steps steps (unit: steps): twice as long again
+/// (a car on a long straight), within kGatherLookaheadMax_m.
+inline constexpr double kGatherLookaheadLongest_steps = 48.0;
 /// Longest look-ahead (unit: m), so that a car far above the top speed
-/// (365 m/s: 73 m in 24 steps) does not gather a long corridor.
+/// (365 m/s: 146 m in 48 steps) does not gather a long corridor.
 inline constexpr double kGatherLookaheadMax_m = 50.0;
 
 /// Gathers the triangles whose grid boxes (their bounds rounded outward to
@@ -139,8 +143,12 @@ inline GatherReach gather_reach(const PhysicsSettings& s, GatherFor why, double 
 
 inline Vec3 gather_lookahead(const PhysicsSettings& s, const Vec3& velocity, double travel_m,
                              std::uint32_t served_steps) {
-    const double steps = served_steps >= static_cast<std::uint32_t>(kGatherLookahead_steps) ? kGatherLookaheadLong_steps
-                                                                                          : kGatherLookahead_steps;
+    double steps = kGatherLookahead_steps;
+    if (served_steps >= static_cast<std::uint32_t>(kGatherLookaheadLong_steps)) {
+        steps = kGatherLookaheadLongest_steps;
+    } else if (served_steps >= static_cast<std::uint32_t>(kGatherLookahead_steps)) {
+        steps = kGatherLookaheadLong_steps;
+    }
     Vec3 lookahead = velocity * (s.dt_s() * steps);
     const double ahead = travel_m * steps;
     if (ahead > kGatherLookaheadMax_m) lookahead *= kGatherLookaheadMax_m / ahead;
