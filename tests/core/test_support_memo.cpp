@@ -11,7 +11,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstring>
 #include <random>
 
 namespace {
@@ -22,9 +21,8 @@ using jetrace::Input;
 using jetrace::Vec3;
 
 bool same_car_bits(const CarState& a, const CarState& b) {
-    return std::memcmp(a.position.data(), b.position.data(), 3 * sizeof(double)) == 0 &&
-           std::memcmp(a.velocity.data(), b.velocity.data(), 3 * sizeof(double)) == 0 &&
-           std::memcmp(a.orientation.coeffs().data(), b.orientation.coeffs().data(), 4 * sizeof(double)) == 0;
+    return jetrace::same_bits(a.position, b.position) && jetrace::same_bits(a.velocity, b.velocity) &&
+           jetrace::same_bits(a.orientation, b.orientation);
 }
 
 // The contacts of step `i` of a scripted ride: a flat floor for long runs,
