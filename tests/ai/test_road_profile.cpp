@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -182,4 +183,53 @@ TEST(RoadProfile, GoesOnAtTheFloorUnderABlockTopHigherThanAStep) {
     EXPECT_FALSE(road.obstacle(1, 0.75));  // the step is road, not an obstacle
     ASSERT_TRUE(road.height(1, 0.75, y));  // z = 50: up the step
     EXPECT_EQ(y, 1.0);
+}
+
+TEST(RoadProfile, GivesALevelLegsOneHeightAndNaNForTheRest) {
+    constexpr double kSlope = 0.3;
+    std::vector<Vec3> v;
+    std::vector<std::uint32_t> idx;
+    for (int i = -15; i < 15; ++i) {
+        for (int j = -15; j < 15; ++j) add_quad(v, idx, i * 10.0, j * 10.0, i * 10.0 + 10, j * 10.0 + 10, kSlope, 0);
+    }
+    // Legs 1 and 3 run along z at one x: level, the road 1 m below the
+    // route line. Legs 0 and 2 climb and fall along x.
+    const Scene sc = scene_of(v, idx, square_route(kSlope));
+    const RoadProfile road = road_of(sc);
+    for (int leg : {0, 2}) EXPECT_TRUE(std::isnan(road.level_height(leg))) << "leg " << leg;
+    for (int leg : {1, 3}) {
+        const double y = road.level_height(leg);
+        ASSERT_FALSE(std::isnan(y)) << "leg " << leg;
+        EXPECT_NEAR(y, kSlope * on_leg(sc, leg, 0.5).x(), RoadProfile::kResolution_m);
+        EXPECT_EQ(road.level_height(leg + 4), y);
+        EXPECT_EQ(road.level_height(leg - 8), y);
+        for (int s = 0; s <= 1000; ++s) {
+            const RoadProfile::Sample here = road.sample(leg, s / 1000.0);
+            ASSERT_TRUE(here.has_height);
+            EXPECT_FALSE(here.obstacle);
+            EXPECT_EQ(here.y, y) << "leg " << leg << " t " << s / 1000.0;
+        }
+    }
+    EXPECT_NE(road.level_height(1), road.level_height(3));
+}
+
+TEST(RoadProfile, HasNoLevelHeightWhereALegCrossesAHoleOrAnObstacle) {
+    std::vector<Vec3> v;
+    std::vector<std::uint32_t> idx;
+    // A flat floor with a hole under the middle of leg 1 (x = 100, z near
+    // 0) and a block 3 m high on leg 3 (x = -100).
+    for (int i = -15; i < 15; ++i) {
+        for (int j = -15; j < 15; ++j) {
+            if ((i == 9 || i == 10) && j == 0) continue;
+            add_quad(v, idx, i * 10.0, j * 10.0, i * 10.0 + 10, j * 10.0 + 10, 0.0, 0);
+        }
+    }
+    add_quad(v, idx, -105, -5, -95, 5, 0.0, 3.0);
+    const Scene sc = scene_of(v, idx, square_route(0.0));
+    const RoadProfile road = road_of(sc);
+    EXPECT_FALSE(std::isnan(road.level_height(0)));
+    EXPECT_FALSE(std::isnan(road.level_height(2)));
+    EXPECT_TRUE(std::isnan(road.level_height(1)));
+    EXPECT_TRUE(std::isnan(road.level_height(3)));
+    EXPECT_EQ(road.level_height(0), road.level_height(2));
 }

@@ -109,6 +109,27 @@ void route_points(const Route& r, const RoutePoint& start, const Vec3& up, doubl
     for (; k <= count; ++k) out[k] = {from, leg, 1.0};
 }
 
+// True if route_points(r, start, up, step, count) would place every point
+// on legs that are level at one height (RoadProfile::level_height): the same
+// walk over the legs, without the points.
+bool level_ahead(const RoadProfile& road, const Route& r, const RoutePoint& start, const Vec3& up, double step,
+                 int count) {
+    const double y = road.level_height(start.leg);
+    Vec3 from = start.at;
+    double at = 0.0;
+    const double last = step * count;
+    for (std::int32_t i = 0; i < 16 && i < r.count; ++i) {
+        const std::int32_t leg = start.leg + i;
+        if (!(road.level_height(leg) == y)) return false;
+        const double len = in_plane(r.at(leg).center - from, up).norm();
+        // route_points() puts the last point on this leg.
+        if (last - at <= len) return true;
+        at += len;
+        from = r.at(leg).center;
+    }
+    return true;  // the points left over go on the last leg walked
+}
+
 // Backwards speed along the nose past which the car is rolling back (unit: m/s).
 constexpr double kRollingBack_mps = 1.0;
 
@@ -218,6 +239,9 @@ constexpr int kProbes = 16;
 double crest_limit(const Scene& sc, const RoadProfile& road, const Route& r, const RoutePoint& start, const Vec3& up,
                    double decel, double horizon, const DriverSkill& skill) {
     const int n = std::min(kProbes, static_cast<int>(horizon / kProbeStep_m) + 2);
+    // Level road all the way (every height the same, no obstacle): no
+    // crest and nothing to drive round, what the loops below would find.
+    if (level_ahead(road, r, start, up, kProbeStep_m, n)) return 1e9;
     double h[kProbes + 1];
     double s[kProbes + 1];
     bool ok[kProbes + 1];

@@ -57,6 +57,13 @@ public:
     };
     Sample sample(std::int32_t leg, double t) const;
 
+    /// The one height sample() gives everywhere on leg `leg` (any integer,
+    /// as above) if the leg is level: the route line flat (its two gates'
+    /// centres at one height), the road found at one offset from it at
+    /// every sample, and no obstacle (unit: m). NaN otherwise, which equals
+    /// nothing: legs that compare equal here give equal heights all along.
+    double level_height(std::int32_t leg) const;
+
     std::size_t legs() const { return legs_.size(); }
     std::size_t memory_bytes() const;
 
@@ -79,6 +86,9 @@ private:
         double y0 = 0;
         double y1 = 0;
     };
+    // The level_height() of each leg, in leg order.
+    std::vector<double> level_;
+    double level_of(const Leg& l) const;
     std::vector<Leg> legs_;
     std::vector<Point> points_;
 };
