@@ -109,6 +109,30 @@ TEST(AiObstacles, ABlockAcrossAGatesCentreIsDrivenRound) {
     expect_finish("block", jetrace::test::track_of(m, rectangle(), grid_behind(-100, -100)));
 }
 
+TEST(AiObstacles, TheFirstFreePlaceAcrossAGateIsTheFirstOneNotBlocked) {
+    Mesh m;
+    m.floor(-200, -150, 200, 150, 0);
+    m.block(50, -100, 2, 0, 4);  // on gate 1's centre
+    const jetrace::Scene scene =
+        jetrace::Scene::make(jetrace::test::track_of(m, rectangle(), grid_behind(-100, -100)), jetrace::PhysicsSettings{});
+    const jetrace::Course course(scene);
+    const auto& gates = scene.track.checkpoints;
+    for (std::size_t g = 0; g < gates.size(); ++g) {
+        for (bool finishing : {false, true}) {
+            int first = 0;
+            while (first <= 2 * jetrace::Course::kCrossingSteps && course.crossing_blocked(g, first, finishing)) ++first;
+            // crossing_place(): the centre, then alternately one side and
+            // the other, a step further out each pair.
+            const int steps = (first + 1) / 2;
+            const double want = (first % 2 == 0 ? 1.0 : -1.0) * gates[g].half_width_m * 0.8 * steps /
+                                jetrace::Course::kCrossingSteps;
+            EXPECT_EQ(course.first_free_place_m(g, finishing), want) << "gate " << g << " finishing " << finishing;
+            // Only the gate with the block has its centre blocked.
+            EXPECT_EQ(first != 0, g == 1) << "gate " << g << " finishing " << finishing;
+        }
+    }
+}
+
 TEST(AiObstacles, FloorsWhoseFacesPointDownAreRaced) {
     Mesh m;
     m.floor(-200, -150, 200, 150, 0, true);

@@ -53,6 +53,11 @@ double crossing_place(const Checkpoint& g, int place) {
 double crossing_offset(const Course& course, const WorldState& state, std::int32_t gate, const CarState& car) {
     const Vec3& from = car.position;
     const bool finishing = gate == 0 && car.lap >= state.laps;
+    // No finished car: the first free place (what the search below finds
+    // first, with nothing to measure clearance to).
+    bool any_finished = false;
+    for (const CarState& o : state.cars) any_finished = any_finished || (o.active && o.finished);
+    if (!any_finished) return course.first_free_place_m(static_cast<std::size_t>(gate), finishing);
     const Scene& sc = course.scene();
     const Checkpoint& g = sc.track.checkpoints[static_cast<std::size_t>(gate)];
     const double room = 2.0 * sc.physics.car_radius_m + 1.0;
@@ -80,9 +85,19 @@ double crossing_offset(const Course& course, const WorldState& state, std::int32
     return best;
 }
 
+// The first place across `g` whose bit in `blocked` is clear, as
+// crossing_place() gives it; 0 if none is.
+double first_free(const Checkpoint& g, std::uint32_t blocked) {
+    for (int k = 0; k <= 2 * Course::kCrossingSteps; ++k) {
+        if (((blocked >> k) & 1u) == 0) return crossing_place(g, k);
+    }
+    return 0.0;
+}
+
 }  // namespace ai_detail
 
 using ai_detail::crossing_place;
+using ai_detail::first_free;
 using ai_detail::obstacle_near;
 
 Course::Course(const Scene& scene, const RoadProbe& probe)
@@ -106,6 +121,8 @@ Course::Course(const Scene& scene, const RoadProbe& probe)
         // Nowhere clear: no place is ruled out.
         at_line_.push_back(line == all ? 0u : line);
         blocked_.push_back((line | past) == all ? 0u : line | past);
+        free_at_line_m_.push_back(first_free(g, at_line_.back()));
+        free_m_.push_back(first_free(g, blocked_.back()));
     }
 }
 

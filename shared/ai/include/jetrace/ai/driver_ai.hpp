@@ -63,6 +63,12 @@ public:
     bool crossing_blocked(std::size_t gate, int place, bool finishing) const {
         return ((finishing ? at_line_[gate] : blocked_[gate]) >> place) & 1u;
     }
+    /// How far across gate `gate` from its centre the first place
+    /// crossing_blocked() leaves free is (unit: m; 0 if none is): where a
+    /// car crosses when no finished car is in the way.
+    double first_free_place_m(std::size_t gate, bool finishing) const {
+        return (finishing ? free_at_line_m_ : free_m_)[gate];
+    }
 
 private:
     const Scene* scene_;
@@ -70,6 +76,9 @@ private:
     // One bit a place, per gate: up to the line, and up to 4 m past it.
     std::vector<std::uint32_t> at_line_;
     std::vector<std::uint32_t> blocked_;
+    // first_free_place_m() per gate, for each of the two.
+    std::vector<double> free_at_line_m_;
+    std::vector<double> free_m_;
 };
 
 /// The Course of whichever scene a client races on, made again when that
