@@ -1,10 +1,10 @@
-// The controls' and the alignment's kept unit orientation and support frame
-// (SupportMemo): a car stepped with one memo kept through every step and a
-// car stepped without (a fresh memo each call) agree bit for bit at every
-// step, through straight runs (the memo found again), steering (the unit
-// orientation changes each step), a change of supporting surface (same
-// orientation, another normal), a tilt the alignment turns towards, and no
-// support at all.
+// The controls' and the alignment's kept unit orientation, support frame
+// and turn (SupportMemo): a car stepped with one memo kept through every
+// step and a car stepped without (a fresh memo each call) agree bit for bit
+// at every step, through straight runs (the memo found again), steering
+// (the unit orientation changes each step; a held steer turns by the angle
+// kept), a change of supporting surface (same orientation, another normal),
+// a tilt the alignment turns towards, and no support at all.
 #include "jetrace/core/hovercar.hpp"
 #include "support/test_seed.hpp"
 
@@ -57,13 +57,19 @@ TEST(SupportMemo, KeptMemoStepsAsAFreshOne) {
     jetrace::SupportMemo memo;
     std::uniform_int_distribution<int> steer(-Input::kMaxSteer, Input::kMaxSteer);
     std::bernoulli_distribution turns(0.3), brakes(0.1);
-    int steered = 0;
+    int steered = 0, held_turns = 0;
+    int held = 0, last_steer = 0;
     for (int i = 0; i < 2000; ++i) {
         const Contacts c = contacts_at(i);
-        // Steer in bursts, so that straight runs find the memo again.
+        // Steer in bursts, so that straight runs find the memo again; the
+        // steer is held for four steps at a time (as the AI holds it), so
+        // that a turn's angle is found again too.
+        if (i % 4 == 0) held = steer(rng);
         const bool turn = (i / 25) % 2 == 1 && turns(rng);
-        const Input in = Input::clamped(Input::kMaxThrottle, turn ? steer(rng) : 0, brakes(rng) ? 1 : 0);
+        const Input in = Input::clamped(Input::kMaxThrottle, turn ? held : 0, brakes(rng) ? 1 : 0);
         steered += in.steer != 0 ? 1 : 0;
+        held_turns += in.steer != 0 && in.steer == last_steer ? 1 : 0;
+        last_steer = in.steer != 0 ? in.steer : last_steer;
         for (CarState* car : {&kept, &fresh}) {
             const Vec3 v0 = car->velocity;
             if (car == &kept) {
@@ -83,6 +89,7 @@ TEST(SupportMemo, KeptMemoStepsAsAFreshOne) {
         ASSERT_TRUE(same_car_bits(kept, fresh)) << "step " << i;
     }
     EXPECT_GT(steered, 100);
+    EXPECT_GT(held_turns, 50);
     // Not vacuous: the car moved and turned.
     EXPECT_GT(kept.velocity.norm(), 1.0);
     EXPECT_LT(std::abs(kept.orientation.w()), 0.9999);

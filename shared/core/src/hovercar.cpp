@@ -1,7 +1,9 @@
 #include "jetrace/core/hovercar.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 
 namespace jetrace {
@@ -97,11 +99,21 @@ const SupportMemo& unit_frame(const Quat& stored, SupportMemo& memo) {
 }
 
 // The unit orientation q, with up `up`, turned about that up over one step
-// of `dt` (unit: s).
-Quat steered(const PhysicsSettings& s, double dt, const Input& input, const Quat& q, const Vec3& up) {
+// of `dt` (unit: s): axis_angle(up, angle) * q, the half angle's sine and
+// cosine kept in `memo` for the next step with the same angle.
+Quat steered(const PhysicsSettings& s, double dt, const Input& input, const Quat& q, const Vec3& up,
+             SupportMemo& memo) {
     // Positive steer turns right: a negative rotation about up.
     const double angle = -static_cast<double>(input.steer) / Input::kMaxSteer * s.steer_rate_radps * dt;
-    return axis_angle(up, angle) * q;
+    if (!memo.turn_valid || std::bit_cast<std::uint64_t>(angle) != std::bit_cast<std::uint64_t>(memo.turn_rad)) {
+        const double h = 0.5 * angle;
+        memo.turn_rad = angle;
+        memo.turn_half_sin = det_sin(h);
+        memo.turn_half_cos = det_cos(h);
+        memo.turn_valid = true;
+    }
+    const double sn = memo.turn_half_sin;
+    return Quat(memo.turn_half_cos, up.x() * sn, up.y() * sn, up.z() * sn) * q;
 }
 
 // Sideways friction over one step of `dt` (unit: s; seed: static threshold
@@ -136,7 +148,7 @@ void apply_controls_and_forces(const PhysicsSettings& s, const Contacts& contact
     const double dt = s.dt_s();
     const SupportMemo& u = unit_frame(car.orientation, memo);
     if (input.steer != 0) {
-        const Quat q = steered(s, dt, input, u.unit, u.up);
+        const Quat q = steered(s, dt, input, u.unit, u.up, memo);
         car.orientation = q;
         support_frame(contacts, q, axis_y(q), s.ride_min_cos, false, memo);
     } else {

@@ -86,14 +86,17 @@ void apply_controls_and_forces(const PhysicsSettings& s, const Contacts& contact
 
 /// What the controls and the alignment work out from a car's orientation
 /// and its contacts, kept by the caller between steps; it never changes a
-/// result. Two parts, each a function of its key alone:
+/// result. Three parts, each a function of its key alone:
 /// - the unit orientation and its up, keyed by the bits of the orientation
 ///   as stored (a car that did not turn finds them again: both phases of its
 ///   step and the next steps read them without renormalising);
 /// - the support frame: the contact normal closest to the car's up, and the
 ///   car's unit forward along that surface, keyed by that unit orientation
 ///   and the bits of the normal (a car going straight over one flat surface
-///   reuses it).
+///   reuses it);
+/// - the sine and cosine of half the steering angle, keyed by the bits of
+///   that angle (a steer held over several steps, as a hand or the AI holds
+///   it, turns by the same angle each step).
 struct SupportMemo {
     /// Key of the first part: the orientation as stored.
     Quat stored{0, 0, 0, 0};
@@ -107,6 +110,12 @@ struct SupportMemo {
     bool grounded = false;
     /// Unit direction along the surface (valid when grounded).
     Vec3 forward{0, 0, 0};
+    /// Key of the third part: the steering angle of one step (unit: rad).
+    double turn_rad = 0;
+    bool turn_valid = false;
+    /// det_sin() and det_cos() of half of it.
+    double turn_half_sin = 0;
+    double turn_half_cos = 1;
 };
 /// The same, with the support frame kept in `memo` between calls.
 void apply_controls_and_forces(const PhysicsSettings& s, const Contacts& contacts, const Input& input, CarState& car,
