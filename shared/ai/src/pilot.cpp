@@ -10,7 +10,7 @@ std::uint32_t think_ticks(double tick_rate_hz) {
     return every >= 1.0 ? static_cast<std::uint32_t>(std::min(every, 1e6)) : 1u;
 }
 
-Input Pilot::next(const Course& course, const WorldState& state, int slot, const StepScratch* stepped) {
+Input Pilot::decide(const Course& course, const WorldState& state, int slot, const StepScratch* stepped) {
     const auto i = static_cast<std::size_t>(slot);
     const CarState& car = state.cars[i];
     const bool follows = holding_ && state.tick == last_tick_ + 1 && car.respawns == respawns_;

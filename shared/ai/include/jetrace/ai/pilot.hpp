@@ -40,11 +40,24 @@ public:
     /// a client's does when it resynchronises) or the car was respawned.
     /// `stepped`: the scratch of the step that made `state`, if the caller
     /// has it (drive() reads the contacts it kept; the same decisions).
-    Input next(const Course& course, const WorldState& state, int slot, const StepScratch* stepped = nullptr);
+    Input next(const Course& course, const WorldState& state, int slot, const StepScratch* stepped = nullptr) {
+        // Holding: the tick after the last, the same car, the same rate,
+        // not a thinking tick (inline: three ticks in four end here).
+        if (holding_ && state.tick == last_tick_ + 1 &&
+            state.cars[static_cast<std::size_t>(slot)].respawns == respawns_ &&
+            course.scene().physics.tick_rate_hz == rate_hz_ && !thinks_on(state.tick, slot, every_)) {
+            last_tick_ = state.tick;
+            return held_;
+        }
+        return decide(course, state, slot, stepped);
+    }
 
     const DriverSkill& skill() const { return skill_; }
 
 private:
+    // next() on any other tick: decides if it is to (and keeps the rate).
+    Input decide(const Course& course, const WorldState& state, int slot, const StepScratch* stepped);
+
     DriverSkill skill_;
     CourseCache course_;
     Input held_{};
