@@ -76,13 +76,13 @@ bool needs_approach(const Checkpoint& g, const Vec3& p) {
 
 // Where to steer: the route point ahead, moved sideways by `shift`, unless
 // the straight line to it would miss the next gate (then that gate's
-// centre, moved the same).
+// centre, moved the same). `approach`: needs_approach() at the next gate.
 Vec3 pursuit_point(const Route& r, const CarState& car, const RoutePoint& start, const Vec3& up, double ahead,
-                   const Vec3& shift) {
+                   const Vec3& shift, bool approach) {
     const Checkpoint& g = r.at(car.next_checkpoint);
     const Vec3 p = car.position;
     const double to_plane = (g.center - p).dot(g.normal);
-    if (needs_approach(g, p)) return g.center - g.normal * kApproach_m;
+    if (approach) return g.center - g.normal * kApproach_m;
     const Vec3 x = route_point(r, start, up, ahead) + shift;
     const double along = (x - p).dot(g.normal);
     if (to_plane <= 0.0 || along <= to_plane) return x;  // the aim is before the gate
@@ -182,14 +182,14 @@ double crest_limit(const Scene& sc, const RoadProfile& road, const Route& r, con
 
 // Slow enough to reach the aim on the arc through it at the yaw rate the
 // steering gives (radius: distance / (2 sin(heading error)), `arc_sin` the
-// sine), and to line up where the car cannot drive through the next gate.
-double aim_limit(const Scene& sc, const CarState& car, const Vec3& up, const Vec3& aim, double arc_sin) {
+// sine), and to line up where the car cannot drive through the next gate
+// (`approach`: needs_approach() there).
+double aim_limit(const Scene& sc, const CarState& car, const Vec3& up, const Vec3& aim, double arc_sin, bool approach) {
     double limit = 1e9;
     const double reach = in_plane(aim - car.position, up).norm();
     const double yaw_rate = kYawMargin * sc.physics.steer_rate_radps;
     if (arc_sin > 1e-3) limit = std::max(6.0, yaw_rate * reach / (2.0 * arc_sin));
-    const Checkpoint& next = sc.track.checkpoints[static_cast<std::size_t>(car.next_checkpoint)];
-    if (needs_approach(next, car.position)) limit = std::min(limit, kApproachSpeed_mps);
+    if (approach) limit = std::min(limit, kApproachSpeed_mps);
     return limit;
 }
 
@@ -238,7 +238,8 @@ Input drive(const Course& course, const WorldState& state, int slot, const Drive
     const double cross_at = ai_detail::crossing_offset(course, state, next_k, car);
     // Where the car joins the route, for the aim and the crests ahead.
     const RoutePoint start = route_start(route, car.next_checkpoint, car.position, up);
-    const Vec3 aim = pursuit_point(route, car, start, up, ahead_m, next.across * cross_at);
+    const bool approach = needs_approach(next, car.position);
+    const Vec3 aim = pursuit_point(route, car, start, up, ahead_m, next.across * cross_at, approach);
 
     const Vec3 d = normalized_or(in_plane(aim - car.position, up), fwd);
     const double lateral = d.dot(right);
@@ -267,7 +268,7 @@ Input drive(const Course& course, const WorldState& state, int slot, const Drive
     // spared reading them.
     double limit = speed_limit(sc, route, car, up, speed, skill, finishing);
     if (!steep) {
-        limit = std::min(limit, aim_limit(sc, car, up, aim, d.dot(fwd) > 0.0 ? std::abs(lateral) : 1.0));
+        limit = std::min(limit, aim_limit(sc, car, up, aim, d.dot(fwd) > 0.0 ? std::abs(lateral) : 1.0, approach));
         if (!(speed > limit * kBrakeOver)) {
             const double decel = sc.physics.brake_mps2 * 0.8;
             const double horizon = speed * speed / (2.0 * decel) + 2.0 * kProbeStep_m;
