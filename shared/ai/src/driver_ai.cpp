@@ -225,8 +225,10 @@ Input drive(const Course& course, const WorldState& state, int slot, const Drive
     if (!car.active || car.finished || gates.empty()) return Input::clamped(0, 0, 1);
     const Route route{gates, static_cast<std::int32_t>(gates.size())};
 
-    const Vec3 fwd = car.forward();
-    const Vec3 up = car.up();
+    // forward() and up(), the orientation normalised once for both.
+    const Quat unit = car.unit_orientation();
+    const Vec3 fwd = axis_z(unit);
+    const Vec3 up = axis_y(unit);
     const Vec3 right = fwd.cross(up);
     const double speed = in_plane(car.velocity, up).norm();
     // Steer at a point at least as far along the route as the next gate: a
