@@ -113,14 +113,15 @@ TEST(AiObstacles, TheFirstFreePlaceAcrossAGateIsTheFirstOneNotBlocked) {
     Mesh m;
     m.floor(-200, -150, 200, 150, 0);
     m.block(50, -100, 2, 0, 4);  // on gate 1's centre
-    const jetrace::Scene scene =
-        jetrace::Scene::make(jetrace::test::track_of(m, rectangle(), grid_behind(-100, -100)), jetrace::PhysicsSettings{});
+    const jetrace::Scene scene = jetrace::Scene::make(jetrace::test::track_of(m, rectangle(), grid_behind(-100, -100)),
+                                                      jetrace::PhysicsSettings{});
     const jetrace::Course course(scene);
     const auto& gates = scene.track.checkpoints;
     for (std::size_t g = 0; g < gates.size(); ++g) {
         for (bool finishing : {false, true}) {
             int first = 0;
-            while (first <= 2 * jetrace::Course::kCrossingSteps && course.crossing_blocked(g, first, finishing)) ++first;
+            constexpr int kLast = 2 * jetrace::Course::kCrossingSteps;
+            while (first <= kLast && course.crossing_blocked(g, first, finishing)) ++first;
             // crossing_place(): the centre, then alternately one side and
             // the other, a step further out each pair.
             const int steps = (first + 1) / 2;

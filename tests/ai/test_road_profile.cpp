@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <initializer_list>
 #include <utility>
 #include <vector>
 
@@ -41,6 +42,19 @@ void add_quad(std::vector<Vec3>& v, std::vector<std::uint32_t>& idx, double x0, 
     for (std::uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) idx.push_back(base + i);
 }
 
+// 10 m quads over x and z from -150 to 150 on the plane y = slope x (small
+// quads, so that samples fall on many triangles), but for the `holes`: (i,
+// j) is the quad from (10 i, 10 j).
+void add_tiles(std::vector<Vec3>& v, std::vector<std::uint32_t>& idx, double slope,
+               std::initializer_list<std::pair<int, int>> holes = {}) {
+    for (int i = -15; i < 15; ++i) {
+        for (int j = -15; j < 15; ++j) {
+            if (std::find(holes.begin(), holes.end(), std::pair{i, j}) != holes.end()) continue;
+            add_quad(v, idx, i * 10.0, j * 10.0, i * 10.0 + 10, j * 10.0 + 10, slope, 0);
+        }
+    }
+}
+
 Scene scene_of(const std::vector<Vec3>& v, const std::vector<std::uint32_t>& idx, std::vector<Checkpoint> gates) {
     const Pose spawn = gates.front().respawn;
     return Scene::make(jetrace::make_track("profile", v, idx, std::move(gates), {spawn}, -1000),
@@ -64,10 +78,7 @@ TEST(RoadProfile, FollowsATiltedPlaneAlongEveryLeg) {
     constexpr double kSlope = 0.3;
     std::vector<Vec3> v;
     std::vector<std::uint32_t> idx;
-    // Small quads, so that samples fall on many triangles.
-    for (int i = -15; i < 15; ++i) {
-        for (int j = -15; j < 15; ++j) add_quad(v, idx, i * 10.0, j * 10.0, i * 10.0 + 10, j * 10.0 + 10, kSlope, 0);
-    }
+    add_tiles(v, idx, kSlope);
     const Scene sc = scene_of(v, idx, square_route(kSlope));
     const RoadProfile road = road_of(sc);
     ASSERT_EQ(road.legs(), 4u);
@@ -189,9 +200,7 @@ TEST(RoadProfile, GivesALevelLegsOneHeightAndNaNForTheRest) {
     constexpr double kSlope = 0.3;
     std::vector<Vec3> v;
     std::vector<std::uint32_t> idx;
-    for (int i = -15; i < 15; ++i) {
-        for (int j = -15; j < 15; ++j) add_quad(v, idx, i * 10.0, j * 10.0, i * 10.0 + 10, j * 10.0 + 10, kSlope, 0);
-    }
+    add_tiles(v, idx, kSlope);
     // Legs 1 and 3 run along z at one x: level, the road 1 m below the
     // route line. Legs 0 and 2 climb and fall along x.
     const Scene sc = scene_of(v, idx, square_route(kSlope));
@@ -218,12 +227,7 @@ TEST(RoadProfile, HasNoLevelHeightWhereALegCrossesAHoleOrAnObstacle) {
     std::vector<std::uint32_t> idx;
     // A flat floor with a hole under the middle of leg 1 (x = 100, z near
     // 0) and a block 3 m high on leg 3 (x = -100).
-    for (int i = -15; i < 15; ++i) {
-        for (int j = -15; j < 15; ++j) {
-            if ((i == 9 || i == 10) && j == 0) continue;
-            add_quad(v, idx, i * 10.0, j * 10.0, i * 10.0 + 10, j * 10.0 + 10, 0.0, 0);
-        }
-    }
+    add_tiles(v, idx, 0.0, {{9, 0}, {10, 0}});
     add_quad(v, idx, -105, -5, -95, 5, 0.0, 3.0);
     const Scene sc = scene_of(v, idx, square_route(0.0));
     const RoadProfile road = road_of(sc);

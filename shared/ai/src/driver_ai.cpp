@@ -184,7 +184,8 @@ double crest_limit(const Scene& sc, const RoadProfile& road, const Route& r, con
 // steering gives (radius: distance / (2 sin(heading error)), `arc_sin` the
 // sine), and to line up where the car cannot drive through the next gate
 // (`approach`: needs_approach() there).
-double aim_limit(const Scene& sc, const CarState& car, const Vec3& up, const Vec3& aim, double arc_sin, bool approach) {
+double aim_limit(const Scene& sc, const CarState& car, const Vec3& up, const Vec3& aim, double arc_sin,
+                 bool approach) {
     double limit = 1e9;
     const double reach = in_plane(aim - car.position, up).norm();
     const double yaw_rate = kYawMargin * sc.physics.steer_rate_radps;

@@ -120,7 +120,9 @@ RoadProfile RoadProfile::build(const Track& track, const UniformGrid& grid, cons
 double RoadProfile::level_of(const Leg& l) const {
     const Point* at = &points_[l.first];
     bool level = l.y0 == l.y1 && at[0].offset != kNone;
-    for (std::uint32_t j = 0; level && j <= l.intervals; ++j) level = at[j].offset == at[0].offset && at[j].obstacle == 0;
+    for (std::uint32_t j = 0; level && j <= l.intervals; ++j) {
+        level = at[j].offset == at[0].offset && at[j].obstacle == 0;
+    }
     if (!level) return std::numeric_limits<double>::quiet_NaN();
     // sample()'s sum with both differences zero: the same bits at every t.
     return l.y0 + (l.y1 - l.y0) * 0.0 + at[0].offset * kResolution_m;
@@ -128,7 +130,8 @@ double RoadProfile::level_of(const Leg& l) const {
 
 double RoadProfile::level_height(std::int32_t leg) const {
     const auto n = static_cast<std::int32_t>(level_.size());
-    return n == 0 ? std::numeric_limits<double>::quiet_NaN() : level_[static_cast<std::size_t>(ai_detail::wrap(leg, n))];
+    if (n == 0) return std::numeric_limits<double>::quiet_NaN();
+    return level_[static_cast<std::size_t>(ai_detail::wrap(leg, n))];
 }
 
 bool RoadProfile::obstacle(std::int32_t leg, double t) const { return sample(leg, t).obstacle; }

@@ -18,9 +18,7 @@ namespace jetrace::ai_detail {
 struct Route {
     const std::vector<Checkpoint>& gates;
     std::int32_t count;
-    const Checkpoint& at(std::int32_t i) const {
-        return gates[static_cast<std::size_t>(wrap(i, count))];
-    }
+    const Checkpoint& at(std::int32_t i) const { return gates[static_cast<std::size_t>(wrap(i, count))]; }
 };
 
 // A point on the route: a fraction `t` (0..1) of the way along the leg
@@ -60,7 +58,8 @@ inline Vec3 route_point(const Route& r, const RoutePoint& start, const Vec3& up,
 
 // The points every `step` metres along the route from `start`
 // (route_start()'s), `count` + 1 of them (the first the start), in one walk.
-inline void route_points(const Route& r, const RoutePoint& start, const Vec3& up, double step, int count, RoutePoint* out) {
+inline void route_points(const Route& r, const RoutePoint& start, const Vec3& up, double step, int count,
+                         RoutePoint* out) {
     const std::int32_t next = start.leg;
     Vec3 from = start.at;
     double t0 = start.t;  // where `from` is along the current leg
@@ -86,7 +85,7 @@ inline void route_points(const Route& r, const RoutePoint& start, const Vec3& up
 // on legs that are level at one height (RoadProfile::level_height): the same
 // walk over the legs, without the points.
 inline bool level_ahead(const RoadProfile& road, const Route& r, const RoutePoint& start, const Vec3& up, double step,
-                 int count) {
+                        int count) {
     const double y = road.level_height(start.leg);
     Vec3 from = start.at;
     double at = 0.0;

@@ -86,11 +86,13 @@ private:
         double y0 = 0;
         double y1 = 0;
     };
-    // The level_height() of each leg, in leg order.
-    std::vector<double> level_;
+    // level_height() of leg `l`, from its samples.
     double level_of(const Leg& l) const;
+
     std::vector<Leg> legs_;
     std::vector<Point> points_;
+    // The level_height() of each leg, in leg order.
+    std::vector<double> level_;
 };
 
 }  // namespace jetrace
