@@ -121,8 +121,9 @@ int sweep_motion(const TrackQuery& q, const SphereMotion& car, Candidates& cand)
     const double r = s.car_radius_m;
     Vec3 p = car.from;
     Vec3 d = position - car.from;
+    double length = std::sqrt(d.squaredNorm());
     // One gather covers every slide and the push-out that follows.
-    keep_covered(q, car.from, gather_reach(s, GatherFor::sweep, std::sqrt(d.squaredNorm())), cand);
+    keep_covered(q, car.from, gather_reach(s, GatherFor::sweep, length), cand);
     int hits = 0;
     while (true) {
         SweepHit hit;
@@ -130,7 +131,7 @@ int sweep_motion(const TrackQuery& q, const SphereMotion& car, Candidates& cand)
         // Every point of the swept sphere lies within |d|/2 + r of the
         // motion's midpoint.
         const Vec3 mid = p + d * 0.5;
-        const BoxQuery swept = cand.box_query(mid, 0.5 * std::sqrt(d.squaredNorm()) + r);
+        const BoxQuery swept = cand.box_query(mid, 0.5 * length + r);
         for_each_reaching(track, cand, swept, [&](const Triangle& t, std::uint32_t index) {
             found = sweep_sphere_triangle(p, d, r, t, unit_normal(cand, index, t), hit) || found;
         });
@@ -151,6 +152,7 @@ int sweep_motion(const TrackQuery& q, const SphereMotion& car, Candidates& cand)
         d *= 1.0 - hit.t;
         const double dn = d.dot(n);
         if (dn < 0.0) d -= n * dn;  // slide along the surface
+        length = std::sqrt(d.squaredNorm());
     }
 }
 
@@ -269,8 +271,12 @@ ResolveStats resolve(const TrackQuery& q, const SphereMotion& car, Candidates& c
         // A sweep that met nothing left the car where it was (the step
         // rounded it before the push-out).
         if (stats.sweep_hits > 0 && s.quantize_state) quantize_motion(position, velocity);
+        // The sweep's gather covers the push-out wherever the sweep left
+        // the car (sweep_reach: its slides, their epsilons, and a margin
+        // far beyond the rounding's 0.85 mm).
+    } else {
+        keep_covered(q, position, near, cand);
     }
-    keep_covered(q, position, near, cand);
     for (int pass = 0; pass < s.resolver_passes; ++pass) {
         // A pass expected to push skips the contacts (they would be stale);
         // the pass after it finds them.

@@ -61,35 +61,28 @@ bool sweep_sphere_triangle(const Vec3& p0, const Vec3& d, double r, const Triang
     return sweep_sphere_triangle(p0, d, r, tri, tri.normal(), hit);
 }
 
-bool sweep_sphere_triangle(const Vec3& p0, const Vec3& d, double r, const Triangle& tri, const Vec3& unit_normal,
-                           SweepHit& hit) {
-    if (!tri.degenerate) {
-        const Vec3& face_normal = unit_normal;
-        Vec3 n = face_normal;
-        double s0 = (p0 - tri.a).dot(n);
-        double dn = d.dot(n);
-        if (s0 < 0.0 || (s0 == 0.0 && dn > 0.0)) {  // the sphere is on the back side
-            n = -n;
-            s0 = -s0;
-            dn = -dn;
-        }
-        if (dn < 0.0) {
-            // The face: the plane is reached at distance r at time t; the
-            // contact point must lie inside the triangle.
-            const double t = s0 > r ? (s0 - r) / -dn : 0.0;
-            if (t <= 1.0) {
-                const Vec3 c = p0 + d * t - n * (s0 > r ? r : s0);
-                if (inside(tri, face_normal, c)) {
-                    if (!(t < hit.t)) return false;
-                    hit = {t, n};
-                    return true;
-                }
+namespace sweep_detail {
+
+bool sweep_from_plane(const Vec3& p0, const Vec3& d, double r, const Triangle& tri, const Vec3& face_normal,
+                      const Vec3& n, double s0, double dn, SweepHit& hit) {
+    if (dn < 0.0) {
+        // The face: the plane is reached at distance r at time t; the
+        // contact point must lie inside the triangle.
+        const double t = s0 > r ? (s0 - r) / -dn : 0.0;
+        if (t <= 1.0) {
+            const Vec3 c = p0 + d * t - n * (s0 > r ? r : s0);
+            if (inside(tri, face_normal, c)) {
+                if (!(t < hit.t)) return false;
+                hit = {t, n};
+                return true;
             }
-        } else if (s0 > r) {
-            return false;  // moving along or away from the plane, beyond reach
         }
     }
-    // Edges, then vertices: the earliest of them.
+    return sweep_features(p0, d, r, tri, hit);
+}
+
+// Edges, then vertices: the earliest of them.
+bool sweep_features(const Vec3& p0, const Vec3& d, double r, const Triangle& tri, SweepHit& hit) {
     bool any = false;
     double best = hit.t;
     Vec3 best_n = hit.normal;
@@ -116,5 +109,7 @@ bool sweep_sphere_triangle(const Vec3& p0, const Vec3& d, double r, const Triang
     if (any) hit = {best, best_n};
     return any;
 }
+
+}  // namespace sweep_detail
 
 }  // namespace jetrace
