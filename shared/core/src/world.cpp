@@ -107,19 +107,25 @@ Input effective_input(const WorldState& st, std::span<const Input> inputs, std::
     return in;
 }
 
+// gather_for_step's gather, for a step moving `travel_m` (out of line:
+// one step in dozens gathers). The gather's reach and look-ahead shape its
+// region (never a result): worked out only when the step gathers.
+[[gnu::noinline]] void gather_step_region(const Scene& sc, const Vec3& position, const Vec3& velocity,
+                                          double travel_m, Candidates& cand) {
+    const PhysicsSettings& ps = sc.physics;
+    const GatherReach reach = gather_reach(ps, GatherFor::step, travel_m);
+    cand.lookahead = gather_lookahead(ps, velocity, travel_m, cand.steps_served);
+    gather_candidates(sc.query(), position, reach.gather_m, cand);
+}
+
 // The gather for a car's step from `position` at `velocity` (what
-// drive_phase does).
-void gather_for_step(const Scene& sc, const Vec3& position, const Vec3& velocity, CarScratch& cs) {
+// drive_phase does). Inline: every moving car asks every step.
+[[gnu::always_inline]] inline void gather_for_step(const Scene& sc, const Vec3& position, const Vec3& velocity,
+                                                   CarScratch& cs) {
     const PhysicsSettings& ps = sc.physics;
     const double travel = velocity.norm() * ps.dt_s();
     Candidates& cand = cs.candidates;
-    if (!cand.covers(position, step_cover(ps, travel))) {
-        // The gather's reach and look-ahead shape its region (never a
-        // result): worked out only when the step gathers.
-        const GatherReach reach = gather_reach(ps, GatherFor::step, travel);
-        cand.lookahead = gather_lookahead(ps, velocity, travel, cand.steps_served);
-        gather_candidates(sc.query(), position, reach.gather_m, cand);
-    }
+    if (!cand.covers(position, step_cover(ps, travel))) gather_step_region(sc, position, velocity, travel, cand);
     ++cand.steps_served;
 }
 
