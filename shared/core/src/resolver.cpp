@@ -86,27 +86,36 @@ const double kContactDist2 = [] {
     return d2;
 }();
 
+// contact_normal() away from a face region's interior: the normalised
+// centre-to-closest-point vector, or for a centre on the triangle (within
+// 1e-9 m) the face normal on the side the car came from.
+[[gnu::noinline]] Vec3 contact_normal_off_face(const Candidates& cand, std::uint32_t index, const Triangle& t,
+                                               const ClosestPoint& cp, const Vec3& p, double d2,
+                                               const Vec3* came_from) {
+    const Vec3& q = cp.point;
+    if (d2 >= kContactDist2) return (p - q) / std::sqrt(d2);
+    if (t.degenerate) return kWorldUp;
+    const Vec3 n = unit_normal(cand, index, t);
+    const Vec3 from = came_from != nullptr ? *came_from : Vec3(p + n);
+    return (from - q).dot(n) < 0.0 ? Vec3(-n) : n;
+}
+
 // Direction from the surface point `q` to the centre `p`, `d2` apart
 // (squared). Inside the face region that is the face normal (on the
 // centre's side), exactly: a car at rest on a flat floor then feels an
 // exactly vertical normal, not one tilted by the rounding of the closest
 // point. If the centre lies on the triangle (within 1e-9 m), the face
 // normal on the side the car came from (`came_from`; nullptr: p + the
-// normal, the normal's own side).
-Vec3 contact_normal(const Candidates& cand, std::uint32_t index, const Triangle& t, const ClosestPoint& cp,
-                    const Vec3& p, double d2, const Vec3* came_from) {
-    const Vec3& q = cp.point;
-    if (d2 >= kContactDist2) {
-        if (cp.region == TriRegion::face && !t.degenerate) {
-            const Vec3 n = unit_normal(cand, index, t);
-            return (p - q).dot(n) < 0.0 ? Vec3(-n) : n;
-        }
-        return (p - q) / std::sqrt(d2);
+// normal, the normal's own side). Inline up to the face region's answer,
+// the common one (a car over a floor); the rest out of line.
+[[gnu::always_inline]] inline Vec3 contact_normal(const Candidates& cand, std::uint32_t index, const Triangle& t,
+                                                  const ClosestPoint& cp, const Vec3& p, double d2,
+                                                  const Vec3* came_from) {
+    if (d2 >= kContactDist2 && cp.region == TriRegion::face && !t.degenerate) {
+        const Vec3 n = unit_normal(cand, index, t);
+        return (p - cp.point).dot(n) < 0.0 ? Vec3(-n) : n;
     }
-    if (t.degenerate) return kWorldUp;
-    const Vec3 n = unit_normal(cand, index, t);
-    const Vec3 from = came_from != nullptr ? *came_from : Vec3(p + n);
-    return (from - q).dot(n) < 0.0 ? Vec3(-n) : n;
+    return contact_normal_off_face(cand, index, t, cp, p, d2, came_from);
 }
 
 // The swept phase: moves the car from `from` towards `position` until its
