@@ -509,6 +509,56 @@ TEST(Resolver, PushOutContactsEqualFindContactsWhateverTheHint) {
     EXPECT_GT(found, 3000);
 }
 
+// The push-out after a sweep gathers nothing of its own: the sweep's
+// gather (GatherFor::sweep, around where the motion starts) must cover
+// every place the sweep can leave the car, its slides and the rounding
+// after them included. Fast cars thrown at the stadium's triangles
+// (walls, banks, the floor) resolve exactly as brute force resolves them.
+TEST(Resolver, ASweepsGatherServesThePushOutAfterIt) {
+    JETRACE_SEEDED_RNG(rng);
+    const Scene sc = Scene::make(make_oval(stadium_params()), PhysicsSettings{});
+    const PhysicsSettings& ps = sc.physics;
+    std::uniform_int_distribution<std::size_t> pick(0, sc.track.triangles.size() - 1);
+    std::uniform_real_distribution<double> unit(0.0, 1.0), offset(ps.car_radius_m, 30.0), speed(-3000.0, 3000.0);
+    int swept = 0, hit = 0, pushed = 0;
+    for (int i = 0; i < 3000; ++i) {
+        const Triangle& t = sc.track.triangles[pick(rng)];
+        double u = unit(rng), v = unit(rng);
+        if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
+        const Vec3 on = t.a + (t.b - t.a) * u + (t.c - t.a) * v;
+        Vec3 from = on + (t.degenerate ? kWorldUp : t.normal()) * offset(rng);
+        Vec3 velocity(speed(rng), speed(rng), speed(rng));
+        quantize_motion(from, velocity);
+        Vec3 to = from + velocity * ps.dt_s();
+        quantize_motion(to, velocity);
+        if (!needs_sweep(ps, from, to)) continue;
+        ++swept;
+        Vec3 p[2] = {to, to}, vel[2] = {velocity, velocity};
+        Contacts c[2];
+        ResolveStats r[2];
+        const Broadphase ways[2] = {Broadphase::grid, Broadphase::brute_force};
+        for (int w = 0; w < 2; ++w) {
+            Candidates cand;
+            r[w] = resolve({sc.track, sc.grid, ways[w], ps}, {from, p[w], vel[w]}, cand, c[w]);
+        }
+        ASSERT_TRUE(same(p[0], p[1]) && same(vel[0], vel[1])) << "throw " << i << ": the grid's result differs";
+        ASSERT_EQ(r[0].sweep_hits, r[1].sweep_hits) << "throw " << i;
+        ASSERT_EQ(r[0].pushes, r[1].pushes) << "throw " << i;
+        ASSERT_EQ(r[0].found_contacts, r[1].found_contacts) << "throw " << i;
+        ASSERT_EQ(c[0].count, c[1].count) << "throw " << i;
+        for (int k = 0; k < c[0].count; ++k) ASSERT_TRUE(same(c[0].normal[k], c[1].normal[k])) << "throw " << i;
+        hit += r[0].sweep_hits > 0 ? 1 : 0;
+        pushed += r[0].pushes > 0 ? 1 : 0;
+    }
+    // Not vacuous: most throws swept, many met the track, some then pushed.
+    EXPECT_GT(swept, 2500);
+    EXPECT_GT(hit, 300);
+    EXPECT_GT(pushed, 10);
+    RecordProperty("swept", swept);
+    RecordProperty("hit", hit);
+    RecordProperty("pushed", pushed);
+}
+
 // Two ways the push-out's result once depended on scratch (found in review):
 // rounding after a pushing pass carried the car to the edge of its gathered
 // candidates, so the clear pass missed a contact just beyond them; and a
