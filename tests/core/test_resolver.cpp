@@ -460,6 +460,22 @@ TEST(Resolver, GridAndBruteForceGiveIdenticalHashes) {
 
 // ================================== contacts from the push-out, and its hint
 
+namespace {
+
+// A point off a random triangle of `track`: a uniform point on it, moved
+// along its normal (up for a degenerate one) by a draw of `offset` (m).
+Vec3 off_a_triangle(const Track& track, std::mt19937_64& rng, std::uniform_real_distribution<double>& offset) {
+    std::uniform_int_distribution<std::size_t> pick(0, track.triangles.size() - 1);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const Triangle& t = track.triangles[pick(rng)];
+    double u = unit(rng), v = unit(rng);
+    if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
+    const Vec3 on = t.a + (t.b - t.a) * u + (t.c - t.a) * v;
+    return on + (t.degenerate ? kWorldUp : t.normal()) * offset(rng);
+}
+
+}  // namespace
+
 // The pass that finds a car clear also finds its contacts: they must be what
 // find_contacts() finds where the car ends, and resolve()'s expect_push hint
 // (which only skips that work in a pass expected to push) must change
@@ -469,15 +485,10 @@ TEST(Resolver, PushOutContactsEqualFindContactsWhateverTheHint) {
     JETRACE_SEEDED_RNG(rng);
     const Scene sc = Scene::make(make_oval(stadium_params()), PhysicsSettings{});
     const PhysicsSettings& ps = sc.physics;
-    std::uniform_int_distribution<std::size_t> pick(0, sc.track.triangles.size() - 1);
-    std::uniform_real_distribution<double> unit(0.0, 1.0), offset(-1.0, 3.5), speed(-40.0, 40.0);
+    std::uniform_real_distribution<double> offset(-1.0, 3.5), speed(-40.0, 40.0);
     int found = 0, pushed = 0;
     for (int i = 0; i < 3000; ++i) {
-        const Triangle& t = sc.track.triangles[pick(rng)];
-        double u = unit(rng), v = unit(rng);
-        if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
-        const Vec3 on = t.a + (t.b - t.a) * u + (t.c - t.a) * v;
-        Vec3 start = on + (t.degenerate ? kWorldUp : t.normal()) * offset(rng);
+        Vec3 start = off_a_triangle(sc.track, rng, offset);
         Vec3 velocity(speed(rng), speed(rng), speed(rng));
         quantize_motion(start, velocity);
         const Vec3 from = start - velocity * ps.dt_s();
@@ -518,15 +529,10 @@ TEST(Resolver, ASweepsGatherServesThePushOutAfterIt) {
     JETRACE_SEEDED_RNG(rng);
     const Scene sc = Scene::make(make_oval(stadium_params()), PhysicsSettings{});
     const PhysicsSettings& ps = sc.physics;
-    std::uniform_int_distribution<std::size_t> pick(0, sc.track.triangles.size() - 1);
-    std::uniform_real_distribution<double> unit(0.0, 1.0), offset(ps.car_radius_m, 30.0), speed(-3000.0, 3000.0);
+    std::uniform_real_distribution<double> offset(ps.car_radius_m, 30.0), speed(-3000.0, 3000.0);
     int swept = 0, hit = 0, pushed = 0;
     for (int i = 0; i < 3000; ++i) {
-        const Triangle& t = sc.track.triangles[pick(rng)];
-        double u = unit(rng), v = unit(rng);
-        if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
-        const Vec3 on = t.a + (t.b - t.a) * u + (t.c - t.a) * v;
-        Vec3 from = on + (t.degenerate ? kWorldUp : t.normal()) * offset(rng);
+        Vec3 from = off_a_triangle(sc.track, rng, offset);
         Vec3 velocity(speed(rng), speed(rng), speed(rng));
         quantize_motion(from, velocity);
         Vec3 to = from + velocity * ps.dt_s();
